@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs relief's build and test dependencies from Debian 12 packages. Idempotent: packages that are
+# already installed are skipped, so a second run does not touch apt at all.
+set -euo pipefail
+packages=(
+    g++ cmake ninja-build pkg-config
+    libembree-dev libtbb-dev libglm-dev libstb-dev libpng-dev libjpeg-dev libopenexr-dev
+    libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+    libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+    echo "install-deps: all ${#packages[@]} packages present"
+    exit 0
+fi
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo="sudo"
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

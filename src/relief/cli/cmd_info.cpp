@@ -1,0 +1,4 @@
+#include <relief/cli/common.h>
+namespace relief::cli {
+void addInfoCommand(CLI::App&) {}
+}

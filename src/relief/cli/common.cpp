@@ -1,0 +1,104 @@
+#include <relief/cli/common.h>
+
+#include <relief/core/parallel.h>
+#include <relief/techniques/registry.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+namespace relief::cli {
+
+void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
+    app.add_option("heightfield", o.source,
+                   "height map file (PNG, JPEG, EXR, PFM, raw) or gen:NAME:WxH[:seed]")
+        ->required();
+    app.add_option("--depth", o.depth, "relief depth D in texels (overrides --depth-ratio)");
+    app.add_option("--depth-ratio", o.depthRatio, "relief depth as a fraction of max(W,H)")
+        ->capture_default_str();
+    app.add_option("--edge", o.edge, "edge mode")
+        ->check(CLI::IsMember({"clamp", "repeat"}))
+        ->capture_default_str();
+    app.add_flag("--invert", o.invert, "the file is a depth map (white = deep)");
+    app.add_option("--height-range", o.heightRange, "LO:HI value range of a float map");
+    app.add_option("--raw", o.raw, "read a headerless file: WxH:u8|u16|f32 (little endian)");
+    app.add_option("--channel", o.channel, "channel of a colour image used as height")
+        ->check(CLI::IsMember({"luminance", "r", "g", "b", "a"}))
+        ->capture_default_str();
+    app.add_option("--max-samples", o.maxSamples, "refuse heightfields with more samples")
+        ->capture_default_str();
+}
+
+void addTechniqueOptions(CLI::App& app, TechniqueOptions& o) {
+    app.add_option("-t,--technique", o.name, "technique: " + techniqueNames())
+        ->capture_default_str();
+    app.add_option("--max-steps", o.maxSteps, "iteration cap of the technique");
+    app.add_option("--param", o.params, "technique parameter NAME=VALUE (repeatable)");
+}
+
+void addThreadsOption(CLI::App& app, int& threads) {
+    app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
+}
+
+Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
+    LoadOptions load;
+    load.invert = o.invert;
+    load.maxSamples = o.maxSamples;
+    if (!o.heightRange.empty()) {
+        double lo = 0, hi = 0;
+        if (std::sscanf(o.heightRange.c_str(), "%lf:%lf", &lo, &hi) != 2 || !(lo < hi) ||
+            !std::isfinite(lo) || !std::isfinite(hi))
+            return makeError(ErrorKind::BadArgument, "--height-range '{}': expected LO:HI with LO < HI",
+                             o.heightRange);
+        load.rangeLo = lo;
+        load.rangeHi = hi;
+    }
+    if (!o.raw.empty()) {
+        auto layout = parseRawLayout(o.raw);
+        if (!layout) return layout.error();
+        load.raw = *layout;
+    }
+    const std::pair<const char*, ChannelSelect> channels[] = {
+        {"luminance", ChannelSelect::Luminance}, {"r", ChannelSelect::Red},
+        {"g", ChannelSelect::Green}, {"b", ChannelSelect::Blue}, {"a", ChannelSelect::Alpha}};
+    for (auto& [name, value] : channels)
+        if (o.channel == name) load.channel = value;
+    auto hf = relief::loadHeightfield(o.source, load);
+    if (!hf) return hf.error();
+    return std::make_shared<const Heightfield>(std::move(*hf));
+}
+
+Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& o,
+                                                   std::shared_ptr<const Heightfield> hf) {
+    const float depth = o.depth ? *o.depth : o.depthRatio * float(std::max(hf->width, hf->height));
+    if (!std::isfinite(depth) || depth < 0.0f || depth > 1e6f)
+        return makeError(ErrorKind::BadArgument, "depth {} is out of range (0 to 1e6 texels)", depth);
+    if (!std::isfinite(o.depthRatio) || o.depthRatio < 0.0f)
+        return makeError(ErrorKind::BadArgument, "--depth-ratio {} must be >= 0", o.depthRatio);
+    const EdgeMode edge = o.edge == "repeat" ? EdgeMode::Repeat : EdgeMode::Clamp;
+    return std::make_shared<const Surface>(std::move(hf), depth, edge);
+}
+
+Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
+                                           std::shared_ptr<const Surface> surface) {
+    std::vector<std::pair<std::string, double>> overrides;
+    if (o.maxSteps) overrides.emplace_back("max-steps", double(*o.maxSteps));
+    for (const std::string& p : o.params) {
+        const size_t eq = p.find('=');
+        double value = 0;
+        const char* begin = p.c_str() + (eq == std::string::npos ? 0 : eq + 1);
+        const char* end = p.c_str() + p.size();
+        auto [ptr, ec] = std::from_chars(begin, end, value);
+        if (eq == std::string::npos || ec != std::errc() || ptr != end)
+            return makeError(ErrorKind::BadArgument, "--param '{}': expected NAME=NUMBER", p);
+        overrides.emplace_back(p.substr(0, eq), value);
+    }
+    return createTracer(o.name, std::move(surface), overrides);
+}
+
+int report(const Error& error) {
+    std::fprintf(stderr, "relief: error: %s\n", error.message.c_str());
+    return int(error.kind);
+}
+
+}  // namespace relief::cli

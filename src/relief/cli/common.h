@@ -1,0 +1,66 @@
+#pragma once
+// Option groups shared by the subcommands (DESIGN §3 names) and the glue that turns them into a
+// Surface and a Tracer.
+#include <relief/core/error.h>
+#include <relief/io/heightfield_io.h>
+#include <relief/surface/surface.h>
+#include <relief/techniques/technique.h>
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace relief::cli {
+
+struct SurfaceOptions {
+    std::string source;
+    std::optional<float> depth;
+    float depthRatio = 0.1f;
+    std::string edge = "clamp";
+    bool invert = false;
+    std::string heightRange;  // "LO:HI"
+    std::string raw;          // "WxH:u8|u16|f32"
+    std::string channel = "luminance";
+    int64_t maxSamples = kDefaultMaxSamples;
+};
+
+struct TechniqueOptions {
+    std::string name = "exact";
+    std::optional<int> maxSteps;
+    std::vector<std::string> params;  // "name=value"
+};
+
+void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
+void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
+void addThreadsOption(CLI::App& app, int& threads);
+
+Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
+Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
+                                                   std::shared_ptr<const Heightfield> hf);
+Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
+                                           std::shared_ptr<const Surface> surface);
+
+// The one place where errors become messages and exit codes (0 ok, 1 bad arguments, 2 I/O,
+// 3 invalid input, 4 runtime/GL, 5 unsupported).
+int report(const Error& error);
+
+// Commands register themselves on the app; their callbacks throw CommandFailed on error.
+struct CommandFailed {
+    Error error;
+};
+template <class T>
+T orFail(Result<T> result) {
+    if (!result) throw CommandFailed{result.error()};
+    return std::move(*result);
+}
+inline void orFail(Status status) {
+    if (!status) throw CommandFailed{status.error()};
+}
+
+void addInfoCommand(CLI::App& app);
+void addTraceCommand(CLI::App& app);
+void addRenderCommand(CLI::App& app);
+
+}  // namespace relief::cli

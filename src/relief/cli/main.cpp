@@ -1,0 +1,36 @@
+// relief <command> [options]: the command table. Each command lives in cmd_<name>.cpp.
+#include <relief/cli/common.h>
+#include <relief/core/progress.h>
+
+#include <cstdio>
+
+int main(int argc, char** argv) {
+    using namespace relief::cli;
+    CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("relief ") + RELIEF_VERSION);
+    bool quiet = false;
+    app.add_flag("-q,--quiet", quiet, "no progress output")->configurable(false);
+    app.parse_complete_callback([&] { relief::Progress::setQuiet(quiet); });
+    addInfoCommand(app);
+    addTraceCommand(app);
+    addRenderCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "relief: error: %s\n", e.what());
+        std::fprintf(stderr, "run 'relief --help' or 'relief COMMAND --help' for usage\n");
+        return 1;
+    } catch (const CommandFailed& failure) {
+        return report(failure.error);
+    } catch (const std::bad_alloc&) {
+        return report({relief::ErrorKind::Runtime, "out of memory"});
+    }
+    return 0;
+}

@@ -1,0 +1,162 @@
+#include <relief/embree/embree_scene.h>
+
+#include <embree3/rtcore.h>
+
+#include <cstring>
+
+namespace relief {
+
+TriangleMesh buildSolidMesh(const Surface& s) {
+    const int W = s.width(), H = s.height();
+    TriangleMesh mesh;
+    // Grid vertices at x = 0, 0.5, 1.5, ..., W-0.5, W (and likewise y): sample centres plus the
+    // box faces, where the border strips end.
+    auto coord = [](int a, int n) { return a == 0 ? 0.0f : (a == n + 1 ? float(n) : float(a) - 0.5f); };
+    const int nx = W + 2, ny = H + 2;
+    auto index = [nx](int a, int b) { return unsigned(b * nx + a); };
+    for (int b = 0; b < ny; ++b)
+        for (int a = 0; a < nx; ++a)
+            mesh.vertices.emplace_back(coord(a, W), coord(b, H),
+                                       s.sampleZ(std::clamp(a - 1, 0, W - 1), std::clamp(b - 1, 0, H - 1)));
+    for (int b = 0; b + 1 < ny; ++b) {
+        for (int a = 0; a + 1 < nx; ++a) {
+            const unsigned v00 = index(a, b), v10 = index(a + 1, b), v01 = index(a, b + 1),
+                           v11 = index(a + 1, b + 1);
+            const float z00 = mesh.vertices[v00].z, z10 = mesh.vertices[v10].z,
+                        z01 = mesh.vertices[v01].z, z11 = mesh.vertices[v11].z;
+            if (z00 + z11 <= z10 + z01) {
+                mesh.triangles.emplace_back(v00, v10, v11);
+                mesh.triangles.emplace_back(v00, v11, v01);
+            } else {
+                mesh.triangles.emplace_back(v00, v10, v01);
+                mesh.triangles.emplace_back(v10, v11, v01);
+            }
+        }
+    }
+    // Side walls: for each boundary edge of the top, a quad down to z = 0.
+    auto wall = [&mesh](unsigned top0, unsigned top1) {
+        const vec3 a = mesh.vertices[top0], b = mesh.vertices[top1];
+        const unsigned base = unsigned(mesh.vertices.size());
+        mesh.vertices.emplace_back(a.x, a.y, 0.0f);
+        mesh.vertices.emplace_back(b.x, b.y, 0.0f);
+        mesh.triangles.emplace_back(top0, top1, base + 1);
+        mesh.triangles.emplace_back(top0, base + 1, base);
+    };
+    for (int a = 0; a + 1 < nx; ++a) {
+        wall(index(a, 0), index(a + 1, 0));
+        wall(index(a, ny - 1), index(a + 1, ny - 1));
+    }
+    for (int b = 0; b + 1 < ny; ++b) {
+        wall(index(0, b), index(0, b + 1));
+        wall(index(nx - 1, b), index(nx - 1, b + 1));
+    }
+    const unsigned base = unsigned(mesh.vertices.size());
+    mesh.vertices.emplace_back(0.0f, 0.0f, 0.0f);
+    mesh.vertices.emplace_back(float(W), 0.0f, 0.0f);
+    mesh.vertices.emplace_back(float(W), float(H), 0.0f);
+    mesh.vertices.emplace_back(0.0f, float(H), 0.0f);
+    mesh.triangles.emplace_back(base, base + 1, base + 2);
+    mesh.triangles.emplace_back(base, base + 2, base + 3);
+    return mesh;
+}
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const Surface& surface) {
+    if (surface.edge() != EdgeMode::Clamp)
+        return makeError(ErrorKind::Unsupported, "Embree peer: only clamp edge mode has a finite mesh");
+    std::unique_ptr<EmbreeScene> self(new EmbreeScene());
+    RTCDevice device = rtcNewDevice(nullptr);
+    if (!device) return makeError(ErrorKind::Runtime, "Embree: rtcNewDevice failed");
+    self->m_device = device;
+    const TriangleMesh mesh = buildSolidMesh(surface);
+    RTCScene scene = rtcNewScene(device);
+    self->m_scene = scene;
+    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+    if (!vertices || !indices) {
+        rtcReleaseGeometry(geometry);
+        return makeError(ErrorKind::Runtime, "Embree: buffer allocation failed ({} triangles)",
+                         mesh.triangles.size());
+    }
+    std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * sizeof(vec3));
+    std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometry(scene, geometry);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(scene);
+    self->m_triangleCount = mesh.triangles.size();
+    return self;
+}
+
+EmbreeScene::~EmbreeScene() {
+    if (m_scene) rtcReleaseScene(static_cast<RTCScene>(m_scene));
+    if (m_device) rtcReleaseDevice(static_cast<RTCDevice>(m_device));
+}
+
+namespace {
+Hit hitFrom(const Ray& ray, float tfar, unsigned geomID) {
+    Hit hit;
+    if (geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.hit = true;
+    hit.t = tfar;
+    hit.position = ray.at(tfar);
+    return hit;
+}
+}  // namespace
+
+void EmbreeScene::intersect1(std::span<const Ray> rays, std::span<Hit> hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCScene scene = static_cast<RTCScene>(m_scene);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Ray& r = rays[k];
+        RTCRayHit rh;
+        rh.ray.org_x = r.origin.x; rh.ray.org_y = r.origin.y; rh.ray.org_z = r.origin.z;
+        rh.ray.dir_x = r.direction.x; rh.ray.dir_y = r.direction.y; rh.ray.dir_z = r.direction.z;
+        rh.ray.tnear = 0.0f;
+        rh.ray.tfar = r.tMax;
+        rh.ray.time = 0.0f;
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.id = 0;
+        rh.ray.flags = 0;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &context, &rh);
+        hits[k] = hitFrom(r, rh.ray.tfar, rh.hit.geomID);
+    }
+}
+
+void EmbreeScene::intersect16(std::span<const Ray> rays, std::span<Hit> hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    RTCScene scene = static_cast<RTCScene>(m_scene);
+    for (size_t first = 0; first < rays.size(); first += 16) {
+        const size_t n = std::min<size_t>(16, rays.size() - first);
+        alignas(64) int valid[16];
+        alignas(64) RTCRayHit16 rh;
+        for (size_t k = 0; k < 16; ++k) {
+            valid[k] = k < n ? -1 : 0;
+            const Ray& r = rays[first + std::min(k, n - 1)];
+            rh.ray.org_x[k] = r.origin.x; rh.ray.org_y[k] = r.origin.y; rh.ray.org_z[k] = r.origin.z;
+            rh.ray.dir_x[k] = r.direction.x; rh.ray.dir_y[k] = r.direction.y; rh.ray.dir_z[k] = r.direction.z;
+            rh.ray.tnear[k] = 0.0f;
+            rh.ray.tfar[k] = r.tMax;
+            rh.ray.time[k] = 0.0f;
+            rh.ray.mask[k] = 0xFFFFFFFFu;
+            rh.ray.id[k] = unsigned(k);
+            rh.ray.flags[k] = 0;
+            rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+            rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        rtcIntersect16(valid, scene, &context, &rh);
+        for (size_t k = 0; k < n; ++k)
+            hits[first + k] = hitFrom(rays[first + k], rh.ray.tfar[k], rh.hit.geomID[k]);
+    }
+}
+
+}  // namespace relief
