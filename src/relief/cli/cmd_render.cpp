@@ -1,4 +1,192 @@
+// relief render HEIGHTFIELD -t TECH[,TECH...|all] [view, light, output options]
 #include <relief/cli/common.h>
+#include <relief/core/parallel.h>
+#include <relief/io/image_write.h>
+#include <relief/render/compare.h>
+#include <relief/render/renderer.h>
+#include <relief/techniques/registry.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <iostream>
+
 namespace relief::cli {
-void addRenderCommand(CLI::App&) {}
+
+namespace {
+
+struct RenderOptions {
+    SurfaceOptions surface;
+    TechniqueOptions technique;
+    OrbitView view;
+    std::string size = "800x600";
+    float lightElevation = 45.0f;
+    float lightAzimuth = 135.0f;
+    std::string colorPath, normalPath;
+    bool shadows = false;
+    std::string output, outDir, depthOut, stepsOut, errorOut;
+    std::string format = "text";
+    bool deterministic = false;
+    int threads = 0;
+};
+
+struct TechniqueRun {
+    std::string name;
+    std::string contract;
+    RenderResult result;
+    ErrorStats stats;
+};
+
+std::vector<std::string> techniqueList(const std::string& spec) {
+    std::vector<std::string> names;
+    if (spec == "all") {
+        for (const TechniqueInfo& info : techniques()) names.emplace_back(info.name);
+        return names;
+    }
+    size_t start = 0;
+    for (size_t comma; (comma = spec.find(',', start)) != std::string::npos; start = comma + 1)
+        names.push_back(spec.substr(start, comma - start));
+    names.push_back(spec.substr(start));
+    return names;
 }
+
+Result<ivec2> parseImageSize(const std::string& text) {
+    int w = 0, h = 0;
+    char extra = 0;
+    if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
+        h > 16384)
+        return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each", text);
+    return ivec2(w, h);
+}
+
+void writeOutputs(const RenderOptions& o, const TechniqueRun& run, const Image<Hit>& reference,
+                  const std::string& colorPath, const std::string& stepsPath,
+                  const std::string& errorPath) {
+    if (!colorPath.empty()) orFail(writePng(colorPath, run.result.color));
+    if (!o.depthOut.empty()) orFail(writeExr(o.depthOut, depthValues(run.result.hits)));
+    if (!stepsPath.empty())
+        orFail(writePng(stepsPath, heatmap(stepValues(run.result.hits), float(run.stats.steps.max),
+                                           run.name + " steps")));
+    if (!errorPath.empty()) {
+        const float scale = std::max(1e-3f, float(run.stats.error.p99));
+        orFail(writePng(errorPath, heatmap(errorValues(run.result.hits, reference), scale,
+                                           run.name + " |t-t_ref|")));
+    }
+}
+
+void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs, std::ostream& out) {
+    if (o.format == "json") {
+        nlohmann::json rows = nlohmann::json::array();
+        for (const TechniqueRun& r : runs) {
+            nlohmann::json row = {{"technique", r.name},        {"contract", r.contract},
+                                  {"pixels", r.stats.pixels},    {"hits", r.stats.hits},
+                                  {"wrong_pixels", r.stats.wrong},
+                                  {"error_mean", r.stats.error.mean},
+                                  {"error_p95", r.stats.error.p95},
+                                  {"error_max", r.stats.error.max},
+                                  {"steps_mean", r.stats.steps.mean},
+                                  {"steps_max", r.stats.steps.max},
+                                  {"fetches_mean", r.stats.fetches.mean}};
+            if (!o.deterministic) row["seconds"] = r.result.seconds;
+            rows.push_back(row);
+        }
+        out << rows.dump(2) << "\n";
+        return;
+    }
+    out << "| technique | contract | mean steps | max steps | mean |err| | p95 |err| | max |err| | "
+           "wrong px | ms |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const TechniqueRun& r : runs)
+        out << fmt::format("| {} | {} | {:.2f} | {:.0f} | {:.3g} | {:.3g} | {:.3g} | {:.3f}% | {} |\n",
+                           r.name, r.contract, r.stats.steps.mean, r.stats.steps.max,
+                           r.stats.error.mean, r.stats.error.p95, r.stats.error.max,
+                           100.0 * r.stats.wrongRate(),
+                           o.deterministic ? std::string("-")
+                                           : fmt::format("{:.1f}", 1000.0 * r.result.seconds));
+}
+
+std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
+    if (path.empty()) return std::nullopt;
+    return orFail(loadColorImage(path));
+}
+
+void runRender(const RenderOptions& o) {
+    ThreadLimit limit(o.threads);
+    const std::vector<std::string> names = techniqueList(o.technique.name);
+    const bool many = names.size() > 1;
+    if (many && o.outDir.empty())
+        throw CommandFailed{{ErrorKind::BadArgument, "several techniques need --out-dir DIR"}};
+    if (o.output.empty() && o.outDir.empty())
+        throw CommandFailed{{ErrorKind::BadArgument, "say where to write: -o FILE.png or --out-dir DIR"}};
+    if (!o.outDir.empty()) {
+        std::error_code ec;
+        std::filesystem::create_directories(o.outDir, ec);
+        if (ec) throw CommandFailed{makeError(ErrorKind::Io, "{}: cannot create folder: {}", o.outDir, ec.message())};
+    }
+    const ivec2 size = orFail(parseImageSize(o.size));
+    auto hf = orFail(loadHeightfield(o.surface));
+    auto surface = orFail(makeSurface(o.surface, hf));
+    std::vector<std::unique_ptr<Tracer>> tracers;
+    for (const std::string& name : names) {
+        TechniqueOptions t = o.technique;
+        t.name = name;
+        tracers.push_back(orFail(makeTracer(t, surface)));
+    }
+    const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
+    const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
+    Shading shading;
+    shading.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
+    shading.shadows = o.shadows;
+    shading.color = color ? &*color : nullptr;
+    shading.normalMap = normals ? &*normals : nullptr;
+    const Camera camera(o.view, *surface, size.x, size.y);
+    auto exact = orFail(createTracer("exact", surface));
+    const Image<Hit> reference = tracePrimary(camera, *exact);
+    std::vector<TechniqueRun> runs;
+    for (size_t k = 0; k < names.size(); ++k) {
+        TechniqueRun run{names[k], std::string(toString(findTechnique(names[k])->contract)),
+                         render(*surface, camera, *tracers[k], shading), {}};
+        run.stats = compareHits(run.result.hits, reference);
+        const std::string prefix = o.outDir.empty() ? "" : o.outDir + "/" + names[k];
+        writeOutputs(o, run, reference, many || o.output.empty() ? prefix + ".png" : o.output,
+                     !o.stepsOut.empty() ? o.stepsOut : (prefix.empty() ? "" : prefix + "-steps.png"),
+                     !o.errorOut.empty() ? o.errorOut : (prefix.empty() ? "" : prefix + "-error.png"));
+        runs.push_back(std::move(run));
+    }
+    printSummary(o, runs, std::cout);
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app) {
+    auto o = std::make_shared<RenderOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "render", "render a heightfield with one or several techniques (orbit camera, Lambert "
+                  "shading) and compare each with the exact reference");
+    addSurfaceOptions(*cmd, o->surface);
+    addTechniqueOptions(*cmd, o->technique);
+    cmd->get_option("--technique")->description("technique, comma-separated list, or 'all': " + techniqueNames());
+    cmd->add_option("--elevation", o->view.elevationDeg, "camera elevation above the base (degrees)")
+        ->check(CLI::Range(-90.0f, 90.0f))->capture_default_str();
+    cmd->add_option("--azimuth", o->view.azimuthDeg, "camera azimuth (degrees)")->capture_default_str();
+    cmd->add_option("--distance", o->view.distance, "camera distance in box diagonals")
+        ->check(CLI::Range(0.01f, 1000.0f))->capture_default_str();
+    cmd->add_option("--fov", o->view.fovDeg, "vertical field of view (degrees)")
+        ->check(CLI::Range(1.0f, 170.0f))->capture_default_str();
+    cmd->add_option("--size", o->size, "image size WxH")->capture_default_str();
+    cmd->add_option("--light-elevation", o->lightElevation, "light elevation (degrees)")->capture_default_str();
+    cmd->add_option("--light-azimuth", o->lightAzimuth, "light azimuth (degrees)")->capture_default_str();
+    cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
+    cmd->add_option("--normal", o->normalPath, "tangent-space normal map (PNG/JPEG)");
+    cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
+    cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique");
+    cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
+    cmd->add_option("--depth-out", o->depthOut, "t per pixel as OpenEXR (single technique)");
+    cmd->add_option("--steps-out", o->stepsOut, "steps heatmap PNG with colour bar (single technique)");
+    cmd->add_option("--error-out", o->errorOut, "|t - t_exact| heatmap PNG (single technique)");
+    cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
+    cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the summary");
+    addThreadsOption(*cmd, o->threads);
+    cmd->callback([o] { runRender(*o); });
+}
+
+}  // namespace relief::cli

@@ -1,0 +1,38 @@
+#include <relief/render/camera.h>
+
+#include <cmath>
+
+namespace relief {
+
+vec3 directionFromAngles(float elevationDeg, float azimuthDeg) {
+    const float el = glm::radians(elevationDeg), az = glm::radians(azimuthDeg);
+    return {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+}
+
+Camera::Camera(const OrbitView& view, const Surface& surface, int width, int height)
+    : m_width(width), m_height(height) {
+    const vec3 size(float(surface.width()), float(surface.height()), surface.depth());
+    const vec3 target = 0.5f * size;
+    m_eye = target + view.distance * glm::length(size) *
+                         directionFromAngles(view.elevationDeg, view.azimuthDeg);
+    m_forward = glm::normalize(target - m_eye);
+    // Straight down, "up" on screen is the azimuth direction projected on the base plane.
+    const vec3 worldUp = std::abs(m_forward.z) > 0.9999f
+                             ? -directionFromAngles(0.0f, view.azimuthDeg)
+                             : vec3(0.0f, 0.0f, 1.0f);
+    m_right = glm::normalize(glm::cross(m_forward, worldUp));
+    m_up = glm::cross(m_right, m_forward);
+    m_halfHeight = std::tan(0.5f * glm::radians(view.fovDeg));
+    m_halfWidth = m_halfHeight * float(width) / float(height);
+}
+
+std::vector<Ray> primaryRays(const Camera& camera) {
+    std::vector<Ray> rays;
+    rays.reserve(size_t(camera.width()) * size_t(camera.height()));
+    for (int y = 0; y < camera.height(); ++y)
+        for (int x = 0; x < camera.width(); ++x)
+            rays.push_back(camera.primaryRay(float(x) + 0.5f, float(y) + 0.5f));
+    return rays;
+}
+
+}  // namespace relief

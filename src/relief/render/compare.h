@@ -1,0 +1,35 @@
+#pragma once
+// Per-pixel error of a technique against the exact reference (DESIGN §8) and heatmap images.
+#include <relief/core/image.h>
+#include <relief/core/math.h>
+#include <relief/core/stats.h>
+
+#include <string_view>
+
+namespace relief {
+
+// A pixel is wrong when hit/miss differs or |Δt| > kWrongHitDistance texels.
+inline constexpr float kWrongHitDistance = 0.5f;
+
+struct ErrorStats {
+    size_t pixels = 0;
+    size_t hits = 0;        // pixels the technique hit
+    size_t wrong = 0;       // wrong-hit pixels
+    Summary error;          // |t − t_ref| over pixels where both hit
+    Summary steps;          // per pixel (all pixels)
+    Summary fetches;
+    double wrongRate() const { return pixels ? double(wrong) / double(pixels) : 0.0; }
+};
+
+ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference);
+
+// |t − t_ref| per pixel; NaN where both miss, +inf where the pixel is wrong.
+ImageF errorValues(const Image<Hit>& hits, const Image<Hit>& reference);
+ImageF stepValues(const Image<Hit>& hits);  // NaN where the ray missed the box entirely
+ImageF depthValues(const Image<Hit>& hits);  // t, +inf where missed
+
+// A colour heatmap of `values` scaled to [0, scaleMax], with a colour bar on the right labelled
+// with `title` and its scale. NaN pixels are background, +inf pixels magenta (flagged).
+ImageRgb8 heatmap(const ImageF& values, float scaleMax, std::string_view title);
+
+}  // namespace relief
