@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <iostream>
 
 namespace relief::cli {
@@ -104,6 +106,32 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
                                            : fmt::format("{:.1f}", 1000.0 * r.result.seconds));
 }
 
+void writeText(const std::string& path, const std::string& text) {
+    orFail(writeAtomically(path, [&](const std::string& temp) -> Status {
+        std::ofstream out(temp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
+        return {};
+    }));
+}
+
+// summary.md and summary.json beside the images, so a render folder explains itself.
+void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& runs) {
+    for (const char* format : {"text", "json"}) {
+        RenderOptions as = o;
+        as.format = format;
+        std::ostringstream text;
+        if (as.format == "text")
+            text << fmt::format("# relief render: {}\n\nview: elevation {} deg, azimuth {} deg, "
+                                "distance {}, fov {} deg, size {}\n\n",
+                                o.surface.source, o.view.elevationDeg, o.view.azimuthDeg,
+                                o.view.distance, o.view.fovDeg, o.size);
+        printSummary(as, runs, text);
+        writeText(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str());
+    }
+}
+
 std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     if (path.empty()) return std::nullopt;
     return orFail(loadColorImage(path));
@@ -153,6 +181,7 @@ void runRender(const RenderOptions& o) {
         runs.push_back(std::move(run));
     }
     printSummary(o, runs, std::cout);
+    if (!o.outDir.empty()) writeSummaryFiles(o, runs);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
 
+#include <map>
+
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +36,10 @@ void addTechniqueOptions(CLI::App& app, TechniqueOptions& o) {
         ->capture_default_str();
     app.add_option("--max-steps", o.maxSteps, "iteration cap of the technique");
     app.add_option("--param", o.params, "technique parameter NAME=VALUE (repeatable)");
+    app.add_option("--maps", o.mapsPath, "baked maps (relief bake) instead of building them");
+    app.add_option("--backend", o.backend, "where rays are traced")
+        ->check(CLI::IsMember({"cpu", "gl"}))
+        ->capture_default_str();
 }
 
 void addThreadsOption(CLI::App& app, int& threads) {
@@ -79,8 +85,7 @@ Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& o,
     return std::make_shared<const Surface>(std::move(hf), depth, edge);
 }
 
-Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
-                                           std::shared_ptr<const Surface> surface) {
+Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& o) {
     std::vector<std::pair<std::string, double>> overrides;
     if (o.maxSteps) overrides.emplace_back("max-steps", double(*o.maxSteps));
     for (const std::string& p : o.params) {
@@ -93,7 +98,53 @@ Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
             return makeError(ErrorKind::BadArgument, "--param '{}': expected NAME=NUMBER", p);
         overrides.emplace_back(p.substr(0, eq), value);
     }
-    return createTracer(o.name, std::move(surface), overrides);
+    return overrides;
+}
+
+MapSource mapSourceOf(const Surface& surface) {
+    return {surface.heightfield().contentHash(), surface.width(), surface.height(),
+            std::string(toString(surface.edge())), surface.depth()};
+}
+
+namespace {
+// Loaded once per process: render -t all asks for the same file once per technique.
+Result<std::shared_ptr<const MapFile>> loadMaps(const std::string& path, const Surface& surface) {
+    static std::map<std::string, std::shared_ptr<const MapFile>> cache;
+    auto it = cache.find(path);
+    if (it == cache.end()) {
+        auto file = readMapFile(path);
+        if (!file) return file.error();
+        it = cache.emplace(path, std::make_shared<const MapFile>(std::move(*file))).first;
+    }
+    if (Status s = checkMapSource(path, it->second->source, mapSourceOf(surface)); !s)
+        return s.error();
+    return it->second;
+}
+}  // namespace
+
+Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
+                                           std::shared_ptr<const Surface> surface) {
+    const TechniqueInfo* info = findTechnique(o.name);
+    if (!info)
+        return makeError(ErrorKind::BadArgument, "unknown technique '{}' (known: {})", o.name,
+                         techniqueNames());
+    auto overrides = parameterOverrides(o);
+    if (!overrides) return overrides.error();
+    auto params = resolveParams(*info, *overrides);
+    if (!params) return params.error();
+    TechniqueInput input{surface, std::move(*params), nullptr};
+    std::shared_ptr<const MapFile> maps;
+    if (!o.mapsPath.empty() && info->buildMaps) {
+        auto loaded = loadMaps(o.mapsPath, *surface);
+        if (!loaded) return loaded.error();
+        maps = *loaded;
+        input.maps = maps->find(std::string(info->name));
+        if (!input.maps)
+            return makeError(ErrorKind::InvalidInput, "{}: holds no maps for '{}'; bake them with "
+                             "relief bake --maps {}", o.mapsPath, info->name, info->name);
+    }
+    if (o.backend == "gl") return createGlBackendTracer(*info, input);
+    return info->create(input);  // the map cache above outlives every tracer
 }
 
 int report(const Error& error) {

@@ -30,6 +30,8 @@ struct TechniqueOptions {
     std::string name = "exact";
     std::optional<int> maxSteps;
     std::vector<std::string> params;  // "name=value"
+    std::string mapsPath;             // --maps FILE: baked maps instead of building them
+    std::string backend = "cpu";
 };
 
 void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
@@ -39,8 +41,15 @@ void addThreadsOption(CLI::App& app, int& threads);
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
 Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
                                                    std::shared_ptr<const Heightfield> hf);
+// Parameter overrides from --max-steps and --param NAME=VALUE.
+Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& options);
+// The technique's tracer, with its maps from --maps FILE when given (checked against the surface).
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
                                            std::shared_ptr<const Surface> surface);
+MapSource mapSourceOf(const Surface& surface);
+// The GLSL tracer of a technique (cli/gl_backend.cpp).
+Result<std::unique_ptr<Tracer>> createGlBackendTracer(const TechniqueInfo& info,
+                                                      const TechniqueInput& input);
 
 // The one place where errors become messages and exit codes (0 ok, 1 bad arguments, 2 I/O,
 // 3 invalid input, 4 runtime/GL, 5 unsupported).
@@ -62,5 +71,7 @@ inline void orFail(Status status) {
 void addInfoCommand(CLI::App& app);
 void addTraceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
+void addHelpCommand(CLI::App& app);
+void addBakeCommand(CLI::App& app);
 
 }  // namespace relief::cli

@@ -15,6 +15,8 @@ int main(int argc, char** argv) {
     addInfoCommand(app);
     addTraceCommand(app);
     addRenderCommand(app);
+    addBakeCommand(app);
+    addHelpCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <span>
 #include <string_view>
 #include <vector>
 
@@ -71,6 +72,9 @@ public:
     float maxZ() const { return m_maxZ; }
     const Heightfield& heightfield() const { return *m_heightfield; }
     std::shared_ptr<const Heightfield> heightfieldPtr() const { return m_heightfield; }
+    // The (W+2)×(H+2) heights D·h, row-major; entry (i+1, j+1) is sample (i, j) for i in [-1, W],
+    // j in [-1, H] (clamped or wrapped by the edge mode). The GL backend uploads it as is.
+    std::span<const float> paddedHeights() const { return m_padded; }
 
     // Height D·h of sample (i, j) for any integer i, j (clamped or wrapped by the edge mode).
     float sampleZ(int i, int j) const {

@@ -3,6 +3,9 @@
 #include <relief/techniques/exact/exact.h>
 #include <relief/techniques/linear/linear.h>
 #include <relief/techniques/parallax/parallax.h>
+#include <relief/techniques/maxmip/maxmip.h>
+#include <relief/techniques/quadtree/quadtree.h>
+#include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
 
 #include <cmath>
 
@@ -12,15 +15,28 @@ namespace {
 
 // clang-format off
 const TechniqueInfo kTechniques[] = {
-    {"exact", "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
-     "reference: cell-by-cell grid traversal, two triangle tests per cell",
-     Contract::Exact, kExactParams, createExact},
-    {"linear", "Policarpo, Oliveira & Comba 2005 (relief mapping)",
-     "N linear steps then M binary refinement steps on bilinear fetches",
-     Contract::Approximate, kLinearParams, createLinear},
-    {"parallax", "Kaneko et al. 2001; Welsh 2004 (offset limiting)",
-     "one height fetch, offset-limited parallax shift",
-     Contract::Approximate, {}, createParallax},
+    {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
+     .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
+     .contract = Contract::Exact, .params = kExactParams, .create = createExact,
+     .glsl = "exact/exact.glsl"},
+    {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
+     .summary = "N linear steps then M binary refinement steps on bilinear fetches",
+     .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
+     .glsl = "linear/linear.glsl"},
+    {.name = "parallax", .paper = "Kaneko et al. 2001; Welsh 2004 (offset limiting)",
+     .summary = "one height fetch, offset-limited parallax shift",
+     .contract = Contract::Approximate, .params = {}, .create = createParallax,
+     .glsl = "parallax/parallax.glsl"},
+    {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
+     .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
+     .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree},
+    {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
+     .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
+     .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip},
+    {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",
+     .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
+     .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
+     .create = createQuadtreeOriented},
 };
 // clang-format on
 

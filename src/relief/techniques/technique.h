@@ -4,6 +4,7 @@
 // over rays inside is a template instantiation of the technique's inline `trace`).
 #include <relief/core/error.h>
 #include <relief/core/math.h>
+#include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
 
 #include <map>
@@ -69,6 +70,9 @@ std::unique_ptr<Tracer> makeBatchTracer(Impl impl) {
 struct TechniqueInput {
     std::shared_ptr<const Surface> surface;
     ParamValues params;
+    // Baked maps for this technique (`--maps FILE`), already checked against the surface's
+    // heightfield; null means "build them now".
+    const TechniqueMaps* maps = nullptr;
 };
 
 struct TechniqueInfo {
@@ -77,8 +81,13 @@ struct TechniqueInfo {
     std::string_view summary;  // one line for --help and the report
     Contract contract;
     std::span<const ParamSpec> params;
-    // Builds whatever maps the technique needs and its tracer.
+    // Builds whatever maps the technique needs (unless input.maps has them) and its tracer.
     Result<std::unique_ptr<Tracer>> (*create)(const TechniqueInput& input);
+    // For `relief bake`: the technique's maps as named arrays; null when it has none.
+    Result<TechniqueMaps> (*buildMaps)(const TechniqueInput& input) = nullptr;
+    // Path of its GLSL tracer relative to src/relief/techniques (e.g. "exact/exact.glsl"); empty
+    // when it has none.
+    std::string_view glsl = {};
 };
 
 }  // namespace relief

@@ -50,7 +50,20 @@ inline Hit ExactTracer::trace(const Ray& ray) const {
             hit.position = ray.at(t);
             return hit;
         }
-        if (tb >= span.tExit) return hit;
+        if (tb >= span.tExit) {
+            // Leaving through the bottom face means reaching z = 0 ≤ S: S is there. Where samples
+            // are 0 the floor lies in that face and rounding can leave the cell test a hair
+            // above it at tExit, so the test alone misses such hits.
+            const float zExit = o.z + span.tExit * d.z;
+            const float zRounding = 4.0f * std::numeric_limits<float>::epsilon() *
+                                    (std::abs(o.z) + s.depth());
+            if (d.z < 0.0f && zExit <= zRounding) {
+                hit.hit = true;
+                hit.t = span.tExit;
+                hit.position = ray.at(span.tExit);
+            }
+            return hit;
+        }
         if (tx <= ty) ci += stepX; else cj += stepY;
         if (clamp && (ci < -1 || ci > s.width() - 1 || cj < -1 || cj > s.height() - 1)) return hit;
         ta = tb;

@@ -1,0 +1,91 @@
+#pragma once
+// Shared pieces of the benchmarks: primary rays of the orbit camera (render/camera.h) laid out
+// so that every 4×4 pixel block is 16 consecutive rays (an Embree packet) and every 16×16 pixel
+// tile is 256 consecutive rays (a parallel work item), best-of-N timing, and the machine, date
+// and table text that go into docs/benchmarks.md (DESIGN §8: peers measured in the same run).
+#include <relief/core/parallel.h>
+#include <relief/render/camera.h>
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace relief::bench {
+
+inline constexpr int kPacket = 4;  // 4×4 pixels = 16 rays
+inline constexpr int kTile = 16;   // 16×16 pixels = 256 rays
+
+// Primary rays of `camera`, ordered tile by tile (row-major tiles), packet by packet inside a
+// tile, pixel by pixel (row-major) inside a packet. Width and height must be multiples of kTile.
+inline std::vector<Ray> tiledPrimaryRays(const Camera& camera) {
+    const int w = camera.width(), h = camera.height();
+    RELIEF_CHECK(w % kTile == 0 && h % kTile == 0);
+    std::vector<Ray> rays;
+    rays.reserve(size_t(w) * size_t(h));
+    for (int ty = 0; ty < h; ty += kTile)
+        for (int tx = 0; tx < w; tx += kTile)
+            for (int py = ty; py < ty + kTile; py += kPacket)
+                for (int px = tx; px < tx + kTile; px += kPacket)
+                    for (int y = py; y < py + kPacket; ++y)
+                        for (int x = px; x < px + kPacket; ++x)
+                            rays.push_back(camera.primaryRay(float(x) + 0.5f, float(y) + 0.5f));
+    return rays;
+}
+
+// Runs trace(first, count) over all tiles of `rays` in parallel (relief's parallelRanges).
+template <class TraceRange>
+void forEachTile(size_t rayCount, TraceRange&& trace) {
+    const int64_t tiles = int64_t(rayCount / (kTile * kTile));
+    parallelRanges(tiles, 1, [&](int64_t begin, int64_t end) {
+        for (int64_t t = begin; t < end; ++t) trace(size_t(t) * kTile * kTile, size_t(kTile * kTile));
+    });
+}
+
+// Best wall time of `repeats` runs of fn (the machine is shared and noisy: the best run is the
+// one least disturbed).
+inline double bestSeconds(int repeats, const std::function<void()>& fn) {
+    double best = 1e300;
+    for (int r = 0; r < repeats; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        fn();
+        const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+        best = std::min(best, elapsed.count());
+    }
+    return best;
+}
+
+// "model name" from /proc/cpuinfo and the number of hardware threads.
+inline std::string machineDescription() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line, model = "unknown CPU";
+    while (std::getline(in, line)) {
+        if (line.rfind("model name", 0) == 0) {
+            model = line.substr(line.find(':') + 2);
+            break;
+        }
+    }
+    return model + ", " + std::to_string(std::thread::hardware_concurrency()) +
+           " hardware threads";
+}
+
+inline std::string todayUtc() {
+    const std::time_t now = std::time(nullptr);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    return text;
+}
+
+// 1-minute load average, to say in the report how busy the machine was.
+inline std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    std::string one;
+    in >> one;
+    return one.empty() ? "unknown" : one;
+}
+
+}  // namespace relief::bench

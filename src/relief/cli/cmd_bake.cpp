@@ -1,0 +1,86 @@
+// relief bake HEIGHTFIELD --maps TECH[,TECH...] -o maps.exr
+#include <relief/cli/common.h>
+#include <relief/core/parallel.h>
+#include <relief/techniques/registry.h>
+
+#include <chrono>
+#include <iostream>
+
+namespace relief::cli {
+
+namespace {
+
+struct BakeOptions {
+    SurfaceOptions surface;
+    TechniqueOptions technique;
+    std::string techniques;
+    std::string output;
+    int threads = 0;
+    bool deterministic = false;
+};
+
+std::vector<const TechniqueInfo*> bakeable(const std::string& list) {
+    std::vector<const TechniqueInfo*> infos;
+    std::string known;
+    for (const TechniqueInfo& info : techniques())
+        if (info.buildMaps) known += (known.empty() ? "" : ", ") + std::string(info.name);
+    size_t start = 0;
+    while (start <= list.size()) {
+        size_t comma = list.find(',', start);
+        if (comma == std::string::npos) comma = list.size();
+        const std::string name = list.substr(start, comma - start);
+        const TechniqueInfo* info = findTechnique(name);
+        if (!info || !info->buildMaps)
+            throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: '{}' has no maps to bake "
+                                          "(techniques with maps: {})", name, known.empty() ? "none yet" : known)};
+        infos.push_back(info);
+        start = comma + 1;
+    }
+    return infos;
+}
+
+void runBake(const BakeOptions& o) {
+    ThreadLimit limit(o.threads);
+    const std::vector<const TechniqueInfo*> infos = bakeable(o.techniques);
+    auto hf = orFail(loadHeightfield(o.surface));
+    auto surface = orFail(makeSurface(o.surface, hf));
+    MapFile file;
+    file.source = mapSourceOf(*surface);
+    const auto overrides = orFail(parameterOverrides(o.technique));
+    for (const TechniqueInfo* info : infos) {
+        // Parameters a technique does not know are only an error if no technique knows them.
+        std::vector<std::pair<std::string, double>> mine;
+        for (const auto& kv : overrides)
+            for (const ParamSpec& p : info->params)
+                if (p.name == kv.first) mine.push_back(kv);
+        TechniqueInput input{surface, orFail(resolveParams(*info, mine)), nullptr};
+        const auto start = std::chrono::steady_clock::now();
+        TechniqueMaps maps = orFail(info->buildMaps(input));
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        size_t bytes = 0;
+        for (const MapArray& a : maps.arrays) bytes += a.data.size() * sizeof(float);
+        std::cout << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", info->name,
+                                 maps.arrays.size(), double(bytes) / double(hf->sampleCount()),
+                                 o.deterministic ? "" : fmt::format(", built in {:.3f} s on {} threads", seconds, ThreadLimit::current()));
+        file.techniques.push_back(std::move(maps));
+    }
+    orFail(writeMapFile(o.output, file));
+    std::cout << "wrote " << o.output << "\n";
+}
+
+}  // namespace
+
+void addBakeCommand(CLI::App& app) {
+    auto o = std::make_shared<BakeOptions>();
+    CLI::App* cmd = app.add_subcommand("bake", "precompute techniques' maps into one OpenEXR file");
+    addSurfaceOptions(*cmd, o->surface);
+    cmd->add_option("--maps,-t,--technique", o->techniques, "techniques whose maps to bake, comma-separated")->required();
+    cmd->add_option("--max-steps", o->technique.maxSteps, "iteration cap, if a map builder uses one");
+    cmd->add_option("--param", o->technique.params, "technique parameter NAME=VALUE (repeatable)");
+    cmd->add_option("-o,--output", o->output, "map file (.exr)")->required();
+    cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the output");
+    addThreadsOption(*cmd, o->threads);
+    cmd->callback([o] { runBake(*o); });
+}
+
+}  // namespace relief::cli

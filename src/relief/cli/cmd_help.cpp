@@ -1,0 +1,37 @@
+// relief help [COMMAND]: the command list and the technique table from the registry.
+#include <relief/cli/common.h>
+#include <relief/techniques/registry.h>
+
+#include <iostream>
+
+namespace relief::cli {
+
+void addHelpCommand(CLI::App& app) {
+    auto topic = std::make_shared<std::string>();
+    CLI::App* cmd = app.add_subcommand("help", "commands, techniques and their contracts");
+    cmd->add_option("command", *topic, "show the options of this command");
+    cmd->callback([&app, topic] {
+        if (!topic->empty()) {
+            CLI::App* sub = nullptr;
+            try {
+                sub = app.get_subcommand(*topic);
+            } catch (const CLI::OptionNotFound&) {
+                throw CommandFailed{makeError(ErrorKind::BadArgument, "help: no command '{}'", *topic)};
+            }
+            std::cout << sub->help();
+            return;
+        }
+        std::cout << app.help() << "\nTechniques (-t NAME):\n";
+        for (const TechniqueInfo& info : techniques()) {
+            std::cout << fmt::format("  {:<18} {:<13} {}\n", info.name, toString(info.contract),
+                                     info.summary);
+            for (const ParamSpec& p : info.params)
+                std::cout << fmt::format("  {:<18}   --param {}={} ({})\n", "", p.name,
+                                         p.defaultValue, p.help);
+        }
+        std::cout << "\nExit codes: 0 ok, 1 bad arguments, 2 I/O, 3 invalid input, 4 runtime/GL, "
+                     "5 unsupported.\n";
+    });
+}
+
+}  // namespace relief::cli

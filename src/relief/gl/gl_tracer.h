@@ -1,0 +1,66 @@
+#pragma once
+// The GL backend: a technique's GLSL tracer (TechniqueInfo::glsl, the twin of its C++ `trace`)
+// run as a compute shader in a headless OpenGL 4.5 context (egl_context.h: Mesa surfaceless /
+// llvmpipe, or an EGL device such as a headless NVIDIA GPU).
+//
+// Programs are assembled from the generated interface (shader_interface.h), the common_*.glsl
+// files, the technique's file and an entry point (main_rays.glsl for ray batches,
+// main_camera.glsl for camera frames whose rays are made on the GPU). The heights are
+// Surface::paddedHeights() in a storage buffer, so the GPU reads the same numbers as the CPU.
+//
+// Maps: techniques that need maps are not supported yet (their GLSL would need the maps bound);
+// the three current rows need none.
+#include <relief/gl/camera.h>
+#include <relief/techniques/technique.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace relief {
+
+using GlCamera = gl::CameraUniforms;
+
+// The GL context in use ("EGL_PLATFORM_SURFACELESS_MESA: Mesa / llvmpipe (...) / OpenGL 4.5 ..."),
+// or the error that names every EGL platform tried.
+Result<std::string> glBackendDescription();
+
+// A Tracer that runs info.glsl on the GPU. Parameters are validated the same way as on the CPU
+// (info.create runs once). traceBatch uploads the rays, dispatches, and reads hit, t, position,
+// steps and fetches back. Calls from several threads are serialized on the one GL context, so
+// large batches are much faster than many small ones.
+Result<std::unique_ptr<Tracer>> createGlTracer(const TechniqueInfo& info,
+                                               const TechniqueInput& input);
+
+struct GlTimingOptions {
+    int frames = 10;       // timed frames
+    int warmupFrames = 2;  // untimed, first (compilation, caches)
+};
+
+// Milliseconds per frame measured with glFinish after each frame and a CPU clock (DESIGN §8).
+struct GlFrameTiming {
+    double msPerFrame = 0.0;   // mean over the timed frames
+    double msMin = 0.0;        // fastest timed frame
+    int frames = 0;
+    double meanSteps = 0.0;    // per pixel, last frame (0 for the mesh)
+    double hitFraction = 0.0;  // pixels that hit (mesh: pixels covered)
+    std::string device;        // glBackendDescription()
+};
+
+// Times camera frames: the primary rays are generated on the GPU from `camera` and traced with
+// info.glsl; nothing is read back between frames.
+Result<GlFrameTiming> timeGlFrame(const TechniqueInfo& info, const TechniqueInput& input,
+                                  const GlCamera& camera, const GlTimingOptions& options = {});
+
+// One camera frame on the GPU, read back: camera.width × camera.height hits, row 0 at the top;
+// pixel (px, py) is the ray gl::cameraRay(camera, px, py).
+Result<std::vector<Hit>> traceGlCamera(const TechniqueInfo& info, const TechniqueInput& input,
+                                       const GlCamera& camera);
+
+// The rasterized peer: S as a triangle mesh (two triangles per cell along the lower diagonal,
+// plus the side walls in clamp mode), one indexed draw into an offscreen framebuffer of the
+// camera's size, with depth test and flat shading; timed like timeGlFrame.
+Result<GlFrameTiming> timeRasterizedMesh(const Surface& surface, const GlCamera& camera,
+                                         const GlTimingOptions& options = {});
+
+}  // namespace relief

@@ -1,0 +1,164 @@
+// JPEG through stb_image (baseline and progressive, grey or colour). stb_image decodes a truncated
+// stream without complaint, filling the rest with grey, so the marker structure is walked first:
+// a file without its end-of-image marker is refused as truncated.
+#include <relief/io/read_common.h>
+
+#include <stb/stb_image.h>
+
+#include <climits>
+#include <cstring>
+
+namespace relief {
+
+namespace {
+
+bool isStandaloneMarker(unsigned char marker) {
+    return marker == 0x01 || (marker >= 0xd0 && marker <= 0xd8);  // TEM, RSTn, SOI
+}
+
+// Returns the position of the next marker after entropy-coded data starting at `pos`, or
+// bytes.size() if the data runs to the end of the file.
+size_t skipEntropyData(std::span<const unsigned char> bytes, size_t pos) {
+    for (; pos + 1 < bytes.size(); ++pos) {
+        const unsigned char next = bytes[pos + 1];
+        if (bytes[pos] == 0xff && next != 0x00 && next != 0xff && !(next >= 0xd0 && next <= 0xd7))
+            return pos;
+    }
+    return bytes.size();
+}
+
+// Walks the segments from SOI to EOI; segment lengths are trusted only as far as the file goes.
+Status checkJpegStructure(const std::string& path, std::span<const unsigned char> bytes) {
+    auto truncated = [&] {
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: truncated JPEG (no end-of-image marker; the file ends early)", path);
+    };
+    size_t pos = 2;  // after SOI
+    while (true) {
+        while (pos + 1 < bytes.size() && bytes[pos] == 0xff && bytes[pos + 1] == 0xff) ++pos;
+        if (pos + 2 > bytes.size()) return truncated();
+        if (bytes[pos] != 0xff)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: corrupt JPEG: expected a marker at byte {}", path, pos);
+        const unsigned char marker = bytes[pos + 1];
+        if (marker == 0xd9) return {};  // EOI
+        pos += 2;
+        if (isStandaloneMarker(marker)) continue;
+        if (pos + 2 > bytes.size()) return truncated();
+        const size_t length = size_t(bytes[pos]) << 8 | bytes[pos + 1];
+        if (length < 2)
+            return makeError(ErrorKind::InvalidInput, "{}: corrupt JPEG: bad segment length",
+                             path);
+        pos += length;
+        if (pos > bytes.size()) return truncated();
+        if (marker == 0xda) pos = skipEntropyData(bytes, pos);  // SOS: scan data follows
+    }
+}
+
+// The whole file in memory (JPEG is compressed, so this is small next to the pixels), checked,
+// with its size and component count from the header.
+class JpegStream {
+public:
+    explicit JpegStream(FileReader& file) : m_file(file) {}
+
+    Result<ImageHeader> readHeader() {
+        if (m_file.size() > INT_MAX)
+            return makeError(ErrorKind::Unsupported, "{}: JPEG files over 2 GiB are not supported",
+                             m_file.path());
+        auto bytes = m_file.readAll();
+        if (!bytes) return bytes.error();
+        m_bytes = std::move(*bytes);
+        if (Status s = checkJpegStructure(m_file.path(), m_bytes); !s) return s.error();
+        int w = 0, h = 0;
+        if (!stbi_info_from_memory(m_bytes.data(), int(m_bytes.size()), &w, &h, &m_components))
+            return corrupt();
+        return ImageHeader{w, h, false};
+    }
+
+    // 8-bit pixels with `channels` (1 or 3) per pixel; freed by the caller with stbi_image_free.
+    Result<unsigned char*> decode(int channels) {
+        int w = 0, h = 0, n = 0;
+        unsigned char* data =
+            stbi_load_from_memory(m_bytes.data(), int(m_bytes.size()), &w, &h, &n, channels);
+        if (!data) return corrupt();
+        return data;
+    }
+
+    int channels() const { return m_components >= 3 ? 3 : 1; }
+
+private:
+    Error corrupt() const {
+        return makeError(ErrorKind::InvalidInput, "{}: corrupt or unsupported JPEG: {}",
+                         m_file.path(), stbi_failure_reason());
+    }
+
+    FileReader& m_file;
+    std::vector<unsigned char> m_bytes;
+    int m_components = 0;
+};
+
+struct StbFree {
+    void operator()(unsigned char* data) const { stbi_image_free(data); }
+};
+
+class JpegHeightDecoder final : public HeightDecoder {
+public:
+    JpegHeightDecoder(FileReader& file, ChannelSelect select)
+        : m_stream(file), m_path(file.path()), m_select(select) {}
+
+    Result<ImageHeader> readHeader() override {
+        auto header = m_stream.readHeader();
+        if (!header) return header;
+        if (Status s = checkChannel(m_path, m_stream.channels(), m_select); !s) return s.error();
+        m_width = header->width;
+        return header;
+    }
+
+    Status readPixels(std::span<float> pixels) override {
+        const PixelLayout layout{Scalar::U8, std::endian::native, m_stream.channels()};
+        auto data = m_stream.decode(layout.channels);
+        if (!data) return data.error();
+        std::unique_ptr<unsigned char, StbFree> owned(*data);
+        const size_t stride = rowBytes(layout, m_width);
+        for (size_t y = 0; y < pixels.size() / size_t(m_width); ++y)
+            convertRow(owned.get() + y * stride, layout, m_width, m_select,
+                       pixels.data() + y * size_t(m_width));
+        return {};
+    }
+
+private:
+    JpegStream m_stream;
+    std::string m_path;
+    ChannelSelect m_select;
+    int64_t m_width = 0;
+};
+
+class JpegColorDecoder final : public ColorDecoder {
+public:
+    explicit JpegColorDecoder(FileReader& file) : m_stream(file) {}
+
+    Result<ImageHeader> readHeader() override { return m_stream.readHeader(); }
+
+    Status readPixels(std::span<Rgb8> pixels) override {
+        auto data = m_stream.decode(3);
+        if (!data) return data.error();
+        std::unique_ptr<unsigned char, StbFree> owned(*data);
+        std::memcpy(pixels.data(), owned.get(), pixels.size_bytes());
+        return {};
+    }
+
+private:
+    JpegStream m_stream;
+};
+
+}  // namespace
+
+std::unique_ptr<HeightDecoder> makeJpegHeightDecoder(FileReader& file, ChannelSelect select) {
+    return std::make_unique<JpegHeightDecoder>(file, select);
+}
+
+std::unique_ptr<ColorDecoder> makeJpegColorDecoder(FileReader& file) {
+    return std::make_unique<JpegColorDecoder>(file);
+}
+
+}  // namespace relief

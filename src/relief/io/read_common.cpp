@@ -1,0 +1,144 @@
+#include <relief/io/read_common.h>
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+
+namespace relief {
+
+Result<FileReader> FileReader::open(const std::string& path) {
+    FileReader reader;
+    reader.m_path = path;
+    reader.m_file.reset(std::fopen(path.c_str(), "rb"));
+    if (!reader.m_file)
+        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(errno));
+    struct stat info {};
+    if (::fstat(::fileno(reader.m_file.get()), &info) != 0)
+        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(errno));
+    if (S_ISDIR(info.st_mode))
+        return makeError(ErrorKind::Io, "{}: cannot open: is a directory, not an image file", path);
+    // Pipes and devices have no size and may block forever; every format here needs a size.
+    if (!S_ISREG(info.st_mode))
+        return makeError(ErrorKind::Io, "{}: cannot open: not a regular file", path);
+    reader.m_size = int64_t(info.st_size);
+    reader.m_headSize = std::fread(reader.m_head.data(), 1, reader.m_head.size(),
+                                   reader.m_file.get());
+    if (!reader.seek(0)) return makeError(ErrorKind::Io, "{}: cannot read", path);
+    return reader;
+}
+
+bool FileReader::read(void* data, size_t bytes) {
+    return std::fread(data, 1, bytes, m_file.get()) == bytes;
+}
+
+bool FileReader::seek(int64_t offset) { return ::fseeko(m_file.get(), off_t(offset), SEEK_SET) == 0; }
+
+Result<std::vector<unsigned char>> FileReader::readAll() {
+    std::vector<unsigned char> bytes(static_cast<size_t>(m_size));
+    if (!seek(0) || !read(bytes.data(), bytes.size()))
+        return makeError(ErrorKind::Io, "{}: read failed", m_path);
+    return bytes;
+}
+
+FileFormat detectFormat(std::span<const unsigned char> head) {
+    auto startsWith = [head](std::initializer_list<unsigned char> magic) {
+        return head.size() >= magic.size() && std::equal(magic.begin(), magic.end(), head.begin());
+    };
+    if (startsWith({0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'})) return FileFormat::Png;
+    if (startsWith({0xff, 0xd8, 0xff})) return FileFormat::Jpeg;
+    if (startsWith({0x76, 0x2f, 0x31, 0x01})) return FileFormat::Exr;
+    const bool spaceAfterTwo = head.size() > 2 && std::isspace(head[2]);
+    if ((startsWith({'P', 'F'}) || startsWith({'P', 'f'})) && spaceAfterTwo) return FileFormat::Pfm;
+    return FileFormat::Unknown;
+}
+
+namespace {
+
+size_t scalarBytes(Scalar scalar) {
+    switch (scalar) {
+        case Scalar::U8: return 1;
+        case Scalar::U16: return 2;
+        case Scalar::F32: return 4;
+    }
+    return 1;
+}
+
+uint32_t loadUnsigned(const unsigned char* p, size_t bytes, std::endian endian) {
+    uint32_t value = 0;
+    for (size_t k = 0; k < bytes; ++k)
+        value |= uint32_t(p[endian == std::endian::big ? k : bytes - 1 - k]) << (8 * (bytes - 1 - k));
+    return value;
+}
+
+float loadScalar(const unsigned char* p, Scalar scalar, std::endian endian) {
+    const uint32_t bits = loadUnsigned(p, scalarBytes(scalar), endian);
+    switch (scalar) {
+        case Scalar::U8: return float(bits) / 255.0f;
+        case Scalar::U16: return float(bits) / 65535.0f;
+        case Scalar::F32: return std::bit_cast<float>(bits);
+    }
+    return 0.0f;
+}
+
+float pickChannel(const float* pixel, int channels, ChannelSelect select) {
+    const bool colour = channels >= 3;
+    switch (select) {
+        case ChannelSelect::Luminance:
+            return colour ? 0.2126f * pixel[0] + 0.7152f * pixel[1] + 0.0722f * pixel[2]
+                          : pixel[0];
+        case ChannelSelect::Red: return pixel[0];
+        case ChannelSelect::Green: return pixel[colour ? 1 : 0];
+        case ChannelSelect::Blue: return pixel[colour ? 2 : 0];
+        case ChannelSelect::Alpha: return pixel[channels - 1];  // checkChannel saw 2 or 4
+    }
+    return pixel[0];
+}
+
+}  // namespace
+
+size_t rowBytes(const PixelLayout& layout, int64_t width) {
+    return size_t(width) * size_t(layout.channels) * scalarBytes(layout.scalar);
+}
+
+int64_t imageBytes(const PixelLayout& layout, int64_t width, int64_t height) {
+    auto inLimit = [](int64_t n) { return n > 0 && n <= kMaxDimension; };
+    if (!inLimit(width) || !inLimit(height)) return -1;
+    return int64_t(rowBytes(layout, width)) * height;
+}
+
+Status checkChannel(const std::string& path, int channels, ChannelSelect select) {
+    if (select == ChannelSelect::Alpha && channels != 2 && channels != 4)
+        return makeError(ErrorKind::BadArgument, "--channel a: {} has no alpha channel", path);
+    return {};
+}
+
+void convertRow(const unsigned char* row, const PixelLayout& layout, int64_t width,
+                ChannelSelect select, float* out) {
+    const size_t bytes = scalarBytes(layout.scalar);
+    const size_t stride = bytes * size_t(layout.channels);
+    float pixel[4];
+    for (int64_t i = 0; i < width; ++i, row += stride) {
+        for (int c = 0; c < layout.channels; ++c)
+            pixel[c] = loadScalar(row + size_t(c) * bytes, layout.scalar, layout.endian);
+        out[i] = pickChannel(pixel, layout.channels, select);
+    }
+}
+
+Status readRows(FileReader& file, const PixelLayout& layout, ChannelSelect select, bool bottomUp,
+                int64_t width, std::span<float> out) {
+    const int64_t rows = int64_t(out.size()) / width;
+    std::vector<unsigned char> row(rowBytes(layout, width));
+    for (int64_t r = 0; r < rows; ++r) {
+        if (!file.read(row.data(), row.size()))
+            return makeError(ErrorKind::InvalidInput, "{}: truncated: the file ends at row {} of {}",
+                             file.path(), r, rows);
+        const int64_t y = bottomUp ? rows - 1 - r : r;
+        convertRow(row.data(), layout, width, select, out.data() + y * width);
+    }
+    return {};
+}
+
+}  // namespace relief

@@ -1,0 +1,158 @@
+#pragma once
+// Shared by `cone` and `relaxed-cone`: the cone map (one apex height and one cone ratio per
+// texel), its builders, its 8/16/32-bit encodings and the cell cursor both tracers use for
+// their exact parts.
+//
+// Texel (i, j) has the footprint F = [i, i+1] × [j, j+1] (its sample sits at the centre). A map
+// entry (a, c) describes the frustum K = {(x, y, z) : dist((x, y), F) ≤ c·(z − a)}: the cone of
+// ratio c (horizontal / vertical) swept over F, starting at height a. A point (x, y) with a
+// degenerate F (a single point) is the published cone with its apex at (x, y, a).
+//
+// Builders (ConeKind):
+//   SafeStrict     a = max of S over F; c = largest ratio with S never inside K. Proof of the
+//                  bound used, for every cell B with corner maximum M_B > a:
+//                    - B disjoint from F: S ≤ M_B over B and dist ≥ dist(F, B), so
+//                      c ≤ dist(F, B) / (M_B − a) suffices;
+//                    - B overlapping F: for q in B let f = clamp(q, F), which lies in B ∩ F;
+//                      each plane P of B is ≤ S ≤ a at f, so P(q) ≤ a + |∇P|·|q − f|, i.e.
+//                      S(q) ≤ a + G_B·dist(q, F) with G_B the steeper plane gradient of B;
+//                      c ≤ 1 / G_B suffices.
+//                  a itself: S is convex inside each cell, so its maximum over each quarter of
+//                  F is at a corner of the quarter: a = max of S at the 9 points of F's
+//                  half-texel grid.
+//   FaithfulStrict Dummer 2006: apex at the sample, a = h(i, j), c = min over samples q with
+//                  h_q > a of |q − apex| / (h_q − a). Approximate: S between samples can enter
+//                  the cone, and positions away from the texel centre are not covered.
+//   FaithfulRelaxed Policarpo & Oliveira 2007: apex at the sample; for each sample B higher than
+//                  the apex, the ray from the box top above the apex through B is followed past
+//                  B until it leaves the solid at C; c = min |C − apex| / (z_C − a).
+// Search: a max pyramid over the cells (quadtree/max_pyramid.h) visited nearest child first;
+// a node is skipped when its maximum is ≤ a or dist(F, node) ≥ c·(max − a) (no cell in it can
+// lower c). Repeat mode visits the tile copies the largest possible cone can reach.
+//
+// Encoding (MapArray "cones", 2 channels): bits 32 stores a and c as floats in texel units.
+// bits 16 / 8 store a / D rounded UP and c / cMax (or sqrt(c / cMax) with `sqrt`) rounded
+// DOWN to the code grid k / (2^bits − 1): a higher apex and a narrower cone are both subsets of
+// the built frustum, so quantization never widens it. cMax is stored in the map's parameters.
+#include <relief/core/error.h>
+#include <relief/io/map_file.h>
+#include <relief/surface/cell_intersect.h>
+#include <relief/techniques/technique.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace relief {
+
+enum class ConeKind { SafeStrict, FaithfulStrict, FaithfulRelaxed };
+
+struct ConeEncoding {
+    int bits = 32;          // 32, 16 or 8
+    bool sqrtRatio = false;  // store sqrt(c / cMax)
+};
+
+// Decoded map: (a, c) per texel in texel units, what the tracers read.
+class ConeMap {
+public:
+    ConeMap(int width, int height, EdgeMode edge, std::vector<vec2> texels)
+        : m_width(width), m_height(height), m_edge(edge), m_texels(std::move(texels)) {}
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    // The entry of the texel whose footprint holds (x, y) (any one of them on a shared edge).
+    vec2 at(float x, float y) const {
+        return m_texels[size_t(wrap(int(std::floor(y)), m_height)) * size_t(m_width) +
+                        size_t(wrap(int(std::floor(x)), m_width))];
+    }
+    const std::vector<vec2>& texels() const { return m_texels; }
+
+private:
+    int wrap(int i, int n) const {
+        if (m_edge == EdgeMode::Clamp) return std::clamp(i, 0, n - 1);
+        const int r = i % n;
+        return r < 0 ? r + n : r;
+    }
+    int m_width, m_height;
+    EdgeMode m_edge;
+    std::vector<vec2> m_texels;
+};
+
+// The largest ratio a map may hold (cones wider than the box are useless; in repeat mode it also
+// bounds how many tile copies the builder visits).
+float coneRatioMax(const Surface& surface);
+
+// (a, c) per texel, unencoded. Parallel over rows (relief's parallelRanges).
+std::vector<vec2> buildCones(const Surface& surface, ConeKind kind);
+// Θ(N⁴) oracles for tests: the same definitions without the pyramid (small maps only).
+std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind);
+
+// The texels as stored at `encoding` (rounded towards the safe side), and back.
+MapArray encodeCones(const Surface& surface, const std::vector<vec2>& cones,
+                     const ConeEncoding& encoding);
+ConeMap decodeCones(const Surface& surface, const MapArray& array, const ConeEncoding& encoding);
+
+// Parameters shared by both techniques' create/buildMaps.
+ConeEncoding encodingFrom(const ParamValues& params);
+std::map<std::string, std::string> mapParameters(const Surface& surface, int variant,
+                                                 const ConeEncoding& encoding);
+// The map to trace with: built now, or taken from input.maps after checking sizes, channels and
+// that it was baked with the same variant / bits / sqrt.
+Result<std::shared_ptr<const ConeMap>> coneMapFor(const TechniqueInput& input,
+                                                  std::string_view technique, ConeKind kind,
+                                                  int variant);
+Result<TechniqueMaps> coneTechniqueMaps(const TechniqueInput& input, std::string_view technique,
+                                        ConeKind kind, int variant);
+
+// ---- hot helpers shared by the tracers ------------------------------------------------------
+
+// Largest dt such that ray.at(t + dt) stays in the frustum of (a, c) from a position at height
+// z inside the footprint; kInfinity when the ray never leaves it. `horizontal` = |d.xy|.
+inline float coneStep(float z, float a, float c, float horizontal, float dz) {
+    const float room = c * (z - a);
+    const float closing = horizontal - c * dz;
+    if (closing <= 0.0f) return room >= 0.0f ? kInfinity : 0.0f;
+    return room / closing;
+}
+
+// The cell the ray is in at t, moving along its direction, and where it leaves it (≤ tEnd).
+struct CellSpan {
+    int ci, cj;
+    float tb;
+};
+inline CellSpan cellAt(const Surface& s, const Ray& ray, float t, float tEnd) {
+    const vec3& o = ray.origin;
+    const vec3& d = ray.direction;
+    const vec3 p = ray.at(t);
+    auto exitAlong = [](int cell, float origin, float dir) {
+        if (dir == 0.0f) return kInfinity;
+        return (float(cell) + (dir > 0.0f ? 1.5f : 0.5f) - origin) / dir;
+    };
+    int ci = int(std::floor(p.x - 0.5f)), cj = int(std::floor(p.y - 0.5f));
+    float tx = exitAlong(ci, o.x, d.x), ty = exitAlong(cj, o.y, d.y);
+    if (tx <= t) tx = exitAlong(ci += d.x > 0.0f ? 1 : -1, o.x, d.x);  // on the edge: move on
+    if (ty <= t) ty = exitAlong(cj += d.y > 0.0f ? 1 : -1, o.y, d.y);
+    if (s.edge() == EdgeMode::Clamp) {
+        ci = std::clamp(ci, -1, s.width() - 1);
+        cj = std::clamp(cj, -1, s.height() - 1);
+    }
+    return {ci, cj, std::max(t, std::min({tx, ty, tEnd}))};
+}
+
+// Leaving the box through its bottom face reaches z = 0 ≤ S (see ExactTracer).
+inline bool exitsThroughFloor(const Surface& s, const Ray& ray, float tExit) {
+    const float zExit = ray.origin.z + tExit * ray.direction.z;
+    const float zRounding =
+        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(ray.origin.z) + s.depth());
+    return ray.direction.z < 0.0f && zExit <= zRounding;
+}
+
+inline Hit hitAt(const Ray& ray, float t, Hit hit) {
+    hit.hit = true;
+    hit.t = t;
+    hit.position = ray.at(t);
+    return hit;
+}
+
+}  // namespace relief

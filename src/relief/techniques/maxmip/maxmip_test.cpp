@@ -1,0 +1,51 @@
+// maxmip against the reference (contract "exact").
+#include <relief/techniques/maxmip/maxmip.h>
+#include <relief/techniques/quadtree/walk_test_support.h>
+#include <relief/techniques/registry.h>
+
+#include <gtest/gtest.h>
+
+namespace relief {
+namespace {
+
+auto maxmipMaker(WalkLimits limits = {}) {
+    return [=](const std::shared_ptr<const Surface>& surface) {
+        return MaxmipTracer(surface, std::make_shared<const MaxPyramid>(*surface), limits);
+    };
+}
+
+TEST(Maxmip, ExactAgainstReference) {
+    const auto tally = walk_test::contractOnAllMaps(maxmipMaker(), 300, "maxmip");
+    EXPECT_GE(tally.rays, 100000u);
+    EXPECT_EQ(tally.wrong, 0u);
+}
+
+TEST(Maxmip, CappedCursorNeverPassesFirstHit) {
+    walk_test::cursorNeverPassesFirstHit(
+        [](const std::shared_ptr<const Surface>& surface, int cap) {
+            return maxmipMaker({cap, false})(surface);
+        },
+        "maxmip");
+}
+
+// Ascending to the common ancestor: a ray crossing a flat map low and level never walks cell
+// by cell; it climbs back to the big nodes.
+TEST(Maxmip, ClimbsBackAfterACellTest) {
+    const auto surface = walk_test::makeSurface({"spikes", 512, 512, EdgeMode::Clamp, 0.05f});
+    const auto tracer = maxmipMaker()(surface);
+    const Ray ray{vec3(0.0f, 100.3f, 25.0f), glm::normalize(vec3(1.0f, 0.0f, -0.001f)),
+                  kInfinity};
+    const Hit hit = tracer.trace(ray);
+    const Hit ref = ExactTracer(surface).trace(ray);
+    EXPECT_EQ(hit.hit, ref.hit);
+    EXPECT_LT(hit.steps, ref.steps);
+}
+
+TEST(Maxmip, RegistryRow) {
+    const TechniqueInfo* info = findTechnique("maxmip");
+    ASSERT_NE(info, nullptr);
+    EXPECT_EQ(info->contract, Contract::Exact);
+}
+
+}  // namespace
+}  // namespace relief

@@ -1,0 +1,292 @@
+#pragma once
+// The pyramid walk shared by `quadtree`, `maxmip` and `quadtree-oriented`: one loop, three
+// choices (what bounds a node, what to do after leaving a node, and caps).
+//
+// The cursor t moves along the ray; (px, py) is the level-0 cell holding it, so the node at any
+// level is (px >> L, py >> L) — the paper's "the cursor is always in the correct node", kept in
+// integers. Each iteration tests one node: the bound gives the first t in the node's segment
+// where the ray may be on or below S; if there is one, the cursor moves there and the walk
+// descends (at level 0: the exact two-triangle test of the cell, `firstHitInCell`); otherwise
+// the cursor moves to the node's exit and the walk steps to the neighbouring node, then ascends
+// as the policy says. The neighbour is found by an integer step of the index (the paper's
+// "boundary offset" delta, without an epsilon). Everything skipped lies above a bound ≥ S, and
+// every cell the ray crosses below its bound gets the reference's own cell test, so the result
+// is the reference's first hit (up to float rounding of t).
+#include <relief/surface/cell_intersect.h>
+#include <relief/techniques/quadtree/max_pyramid.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+
+namespace relief {
+
+// After leaving a node through a side.
+enum class Ascent {
+    None,      // stay at the level (Schroders & van Gulik's Algorithm 1: never go up)
+    Parent,    // as None, but one level up when the neighbour lies in another parent
+    Ancestor,  // straight up to the child of the common ancestor (Tevs et al.: a ray tracer)
+};
+
+struct WalkLimits {
+    int maxSteps = 0;         // 0 = none; at the cap the walk reports a hit at the cursor
+    bool boxSurface = false;  // the paper's surface: reaching a level-0 node is a hit
+};
+
+// Per-ray constants.
+struct WalkRay {
+    vec3 o, d;
+    float invX, invY, invZ;
+    int stepX, stepY;
+    float tEnter, tExit;
+    // Height tolerance of the bound tests: the float error of the ray's z and of S's planes, so
+    // that no node is skipped where the reference's cell test could still report a hit.
+    float slack;
+    float depth;
+
+    vec3 at(float t) const { return o + t * d; }
+};
+
+// Where the walk is: cursor t, current level, the level-0 cell holding the cursor (pyramid
+// indices), and the global cell index of pyramid index 0 (in repeat mode: the tile's base).
+struct WalkCursor {
+    float t;
+    int level;
+    int px, py;
+    int baseX, baseY;
+};
+
+// The node under test: level-0 index range [lo, hi) per axis and the texel position of the
+// lower corner of its nominal 2^L square.
+struct NodeBox {
+    int level, nx, ny;
+    int loX, hiX, loY, hiY;
+    float x0, y0;
+};
+
+struct NodeExit {
+    float tx, ty, t;  // crossing of the x side, of the y side, and the exit (clipped to the box)
+};
+
+inline constexpr float kWalkSlack = 5e-7f;
+
+inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surface& s) {
+    const vec3& o = ray.origin;
+    const vec3& d = ray.direction;
+    const float extent = std::abs(o.x) + std::abs(o.y) + std::abs(o.z) + span.tExit + s.depth();
+    return {o,
+            d,
+            1.0f / d.x,
+            1.0f / d.y,
+            1.0f / d.z,
+            d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0),
+            d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
+            span.tEnter,
+            span.tExit,
+            kWalkSlack * extent,
+            s.depth()};
+}
+
+// t where the ray crosses the cell edge x = edgeCell + 0.5 (the reference's formula, bit for bit).
+inline float boundaryT(int edgeCell, float origin, float inverse) {
+    return (float(edgeCell) + 0.5f - origin) * inverse;
+}
+
+// Level-0 index of coordinate x within [lo, hi), relative to `base` (float error clamped away).
+inline int cellIndexIn(float x, int base, int lo, int hi) {
+    return std::clamp(int(std::floor(x - 0.5f)) - base, lo, hi - 1);
+}
+
+inline int floorMod(int a, int n) {
+    const int r = a % n;
+    return r < 0 ? r + n : r;
+}
+
+inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, const WalkRay& r) {
+    const vec3 entry = r.at(r.tEnter);
+    const int ci = s.cellOfX(entry.x), cj = s.cellOfY(entry.y);
+    WalkCursor c{r.tEnter, layout.topLevel(), 0, 0, layout.firstCell, layout.firstCell};
+    if (layout.repeat) {
+        c.px = floorMod(ci, layout.cellsX);
+        c.py = floorMod(cj, layout.cellsY);
+        c.baseX = ci - c.px;
+        c.baseY = cj - c.py;
+    } else {
+        c.px = ci - layout.firstCell;
+        c.py = cj - layout.firstCell;
+    }
+    return c;
+}
+
+inline NodeBox nodeBox(const PyramidLayout& layout, const WalkCursor& c) {
+    NodeBox b;
+    b.level = c.level;
+    b.nx = c.px >> c.level;
+    b.ny = c.py >> c.level;
+    b.loX = b.nx << c.level;
+    b.loY = b.ny << c.level;
+    b.hiX = std::min(b.loX + (1 << c.level), layout.cellsX);
+    b.hiY = std::min(b.loY + (1 << c.level), layout.cellsY);
+    b.x0 = float(c.baseX + b.loX) + 0.5f;
+    b.y0 = float(c.baseY + b.loY) + 0.5f;
+    return b;
+}
+
+inline NodeExit nodeExit(const WalkRay& r, const NodeBox& b, const WalkCursor& c) {
+    const float tx = r.stepX > 0   ? boundaryT(c.baseX + b.hiX, r.o.x, r.invX)
+                     : r.stepX < 0 ? boundaryT(c.baseX + b.loX, r.o.x, r.invX)
+                                   : kInfinity;
+    const float ty = r.stepY > 0   ? boundaryT(c.baseY + b.hiY, r.o.y, r.invY)
+                     : r.stepY < 0 ? boundaryT(c.baseY + b.loY, r.o.y, r.invY)
+                                   : kInfinity;
+    return {tx, ty, std::max(c.t, std::min({tx, ty, r.tExit}))};
+}
+
+// First t in [t, tOut] where the ray is at or below height `top`, or kInfinity.
+inline float enterBelow(float top, const WalkRay& r, float t, float tOut) {
+    if (r.d.z < 0.0f) {
+        if (r.o.z + tOut * r.d.z > top) return kInfinity;
+        return std::clamp((top - r.o.z) * r.invZ, t, tOut);
+    }
+    return r.o.z + t * r.d.z <= top ? t : kInfinity;
+}
+
+// The flat bound of `quadtree` and `maxmip`: the node's maximum.
+class MaxBound {
+public:
+    explicit MaxBound(const MaxPyramid& pyramid) : m_pyramid(&pyramid) {}
+    float enter(const NodeBox& b, const WalkRay& r, float t, float tOut, Hit& hit) const {
+        ++hit.fetches;
+        return enterBelow(m_pyramid->at(b.level, b.nx, b.ny) + r.slack, r, t, tOut);
+    }
+
+private:
+    const MaxPyramid* m_pyramid;
+};
+
+inline bool recordHit(const Ray& ray, float t, Hit& hit) {
+    hit.hit = true;
+    hit.t = t;
+    hit.position = ray.at(t);
+    return true;
+}
+
+// The reference's rule at the end of the walk (exact.h): leaving through the bottom face means
+// reaching z = 0 ≤ S, a hit, even where rounding left the last cell test a hair above a floor of
+// zero samples.
+inline bool leavesThroughFloor(const WalkRay& r) {
+    const float zExit = r.o.z + r.tExit * r.d.z;
+    const float zRounding =
+        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(r.o.z) + r.depth);
+    return r.d.z < 0.0f && zExit <= zRounding;
+}
+
+// The reference's cell test on the cursor's cell, over the ray's whole span in the cell.
+inline bool leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const WalkCursor& c,
+                    float tOut, Hit& hit) {
+    const int ci = c.baseX + c.px, cj = c.baseY + c.py;
+    float ta = r.tEnter;
+    if (r.stepX != 0) ta = std::max(ta, boundaryT(r.stepX > 0 ? ci : ci + 1, r.o.x, r.invX));
+    if (r.stepY != 0) ta = std::max(ta, boundaryT(r.stepY > 0 ? cj : cj + 1, r.o.y, r.invY));
+    const float tb = std::max(ta, tOut);
+    hit.fetches += 4;
+    const float t = firstHitInCell(s.cellPlanes(ci, cj), ray, ci, cj, ta, tb);
+    return t <= tb && recordHit(ray, t, hit);
+}
+
+inline void descend(const WalkRay& r, const NodeBox& b, float tIn, WalkCursor& c) {
+    if (tIn > c.t) {
+        c.t = tIn;
+        const vec3 p = r.at(tIn);
+        if (r.stepX != 0) c.px = cellIndexIn(p.x, c.baseX, b.loX, b.hiX);
+        if (r.stepY != 0) c.py = cellIndexIn(p.y, c.baseY, b.loY, b.hiY);
+    }
+    --c.level;
+}
+
+template <Ascent kAscent>
+int levelAfterStep(const PyramidLayout& layout, int level, int from, int to, bool seam) {
+    if constexpr (kAscent == Ascent::None) {
+        return level;
+    } else if constexpr (kAscent == Ascent::Parent) {
+        const bool newParent = seam || (from >> (level + 1)) != (to >> (level + 1));
+        return newParent ? std::min(level + 1, layout.topLevel()) : level;
+    } else {
+        if (seam) return layout.topLevel();
+        return int(std::bit_width(unsigned(from ^ to))) - 1;  // highest level where they differ
+    }
+}
+
+// Steps one level-0 index along an axis; false when the ray leaves the map (clamp). In repeat
+// mode the index wraps into the next tile and `seam` is set.
+inline bool stepIndex(int step, int cells, bool repeat, int& index, int& base, bool& seam) {
+    if (index >= 0 && index < cells) return true;
+    if (!repeat) return false;
+    index -= step * cells;
+    base += step * cells;
+    seam = true;
+    return true;
+}
+
+// Moves the cursor to the node's exit and into the neighbouring node; false on leaving.
+template <Ascent kAscent>
+bool advance(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, const NodeExit& e,
+             WalkCursor& c) {
+    if (e.t >= r.tExit) return false;
+    c.t = e.t;
+    bool seam = false;
+    int from, to;
+    if (e.tx <= e.ty) {
+        from = c.px;
+        to = c.px = r.stepX > 0 ? b.hiX : b.loX - 1;
+        if (!stepIndex(r.stepX, layout.cellsX, layout.repeat, c.px, c.baseX, seam)) return false;
+        if (r.stepY != 0) c.py = cellIndexIn(r.o.y + c.t * r.d.y, c.baseY, b.loY, b.hiY);
+    } else {
+        from = c.py;
+        to = c.py = r.stepY > 0 ? b.hiY : b.loY - 1;
+        if (!stepIndex(r.stepY, layout.cellsY, layout.repeat, c.py, c.baseY, seam)) return false;
+        if (r.stepX != 0) c.px = cellIndexIn(r.o.x + c.t * r.d.x, c.baseX, b.loX, b.hiX);
+    }
+    c.level = levelAfterStep<kAscent>(layout, c.level, from, to, seam);
+    return true;
+}
+
+// The walk. Bound: `float enter(const NodeBox&, const WalkRay&, float t, float tOut, Hit&)`,
+// the first t in [t, tOut] where the ray may be on or below S in the node (> tOut: none).
+template <Ascent kAscent, class Bound>
+Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& bound,
+                const Ray& ray, const WalkLimits& limits) {
+    Hit hit;
+    const RayInterval span = s.clip(ray);
+    if (span.empty()) return hit;
+    const WalkRay r = makeWalkRay(ray, span, s);
+    WalkCursor c = startCursor(s, layout, r);
+    for (;;) {
+        if (limits.maxSteps > 0 && hit.steps >= limits.maxSteps) {
+            recordHit(ray, c.t, hit);
+            return hit;
+        }
+        ++hit.steps;
+        const NodeBox b = nodeBox(layout, c);
+        const NodeExit e = nodeExit(r, b, c);
+        const float tIn = bound.enter(b, r, c.t, e.t, hit);
+        if (tIn <= e.t) {
+            if (c.level > 0) {
+                descend(r, b, tIn, c);
+                continue;
+            }
+            if (limits.boxSurface) {
+                recordHit(ray, tIn, hit);
+                return hit;
+            }
+            if (leafHit(s, ray, r, c, e.t, hit)) return hit;
+        }
+        if (!advance<kAscent>(layout, r, b, e, c)) {
+            if (leavesThroughFloor(r)) recordHit(ray, r.tExit, hit);
+            return hit;
+        }
+    }
+}
+
+}  // namespace relief

@@ -1,0 +1,13 @@
+#include <relief/techniques/quadtree/quadtree.h>
+
+namespace relief {
+
+Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
+    const WalkLimits limits{input.params.getInt("max-steps"),
+                            input.params.getInt("box-surface") != 0};
+    const Ascent ascent = input.params.getInt("ascend") == 0 ? Ascent::None : Ascent::Parent;
+    return makeBatchTracer(QuadtreeTracer(
+        input.surface, std::make_shared<const MaxPyramid>(*input.surface), ascent, limits));
+}
+
+}  // namespace relief

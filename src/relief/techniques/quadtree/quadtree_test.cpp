@@ -1,0 +1,96 @@
+// quadtree against the reference (contract "exact"), and the approximate options.
+#include <relief/techniques/quadtree/quadtree.h>
+#include <relief/techniques/quadtree/walk_test_support.h>
+#include <relief/techniques/registry.h>
+
+#include <gtest/gtest.h>
+
+namespace relief {
+namespace {
+
+using walk_test::MapSpec;
+
+auto quadtreeMaker(Ascent ascent, WalkLimits limits = {}) {
+    return [=](const std::shared_ptr<const Surface>& surface) {
+        return QuadtreeTracer(surface, std::make_shared<const MaxPyramid>(*surface), ascent,
+                              limits);
+    };
+}
+
+TEST(Quadtree, ExactAgainstReference) {
+    const auto tally = walk_test::contractOnAllMaps(quadtreeMaker(Ascent::Parent), 300, "quadtree");
+    EXPECT_GE(tally.rays, 100000u);
+    EXPECT_EQ(tally.wrong, 0u);
+}
+
+TEST(Quadtree, PaperAscentIsExactToo) {
+    const auto tally =
+        walk_test::contractOnAllMaps(quadtreeMaker(Ascent::None), 60, "quadtree ascend=0");
+    EXPECT_EQ(tally.wrong, 0u);
+}
+
+TEST(Quadtree, FixedLoopCursorNeverPassesFirstHit) {
+    walk_test::cursorNeverPassesFirstHit(
+        [](const std::shared_ptr<const Surface>& surface, int cap) {
+            return quadtreeMaker(Ascent::Parent, {cap, false})(surface);
+        },
+        "quadtree");
+}
+
+TEST(Quadtree, HugeCapIsExact) {
+    const auto tally = walk_test::contractOnAllMaps(
+        quadtreeMaker(Ascent::Parent, {1000000, false}), 20, "quadtree max-steps=1e6");
+    EXPECT_EQ(tally.wrong, 0u);
+}
+
+// Cell boxes at the corner maximum contain S: never later than the first hit, never a miss
+// where S is hit.
+TEST(Quadtree, BoxSurfaceIsNeverBehindS) {
+    for (const MapSpec& m : walk_test::contractMaps()) {
+        const auto surface = walk_test::makeSurface(m, 2);
+        const auto tracer = quadtreeMaker(Ascent::Parent, {0, true})(surface);
+        const ExactTracer exact(surface);
+        walk_test::RayMaker maker(*surface, 9);
+        for (const Ray& ray : maker.all(20)) {
+            const Hit ref = exact.trace(ray), got = tracer.trace(ray);
+            if (!ref.hit) continue;
+            ASSERT_TRUE(got.hit) << walk_test::describe(m) << " " << walk_test::describe(ray);
+            EXPECT_LE(got.t, ref.t + 1e-4f) << walk_test::describe(m);
+        }
+    }
+}
+
+TEST(Quadtree, EntryBelowSThroughTheWallHitsAtEntry) {
+    const auto surface = walk_test::makeSurface({"flat", 40, 30, EdgeMode::Clamp, 0.5f});
+    const auto tracer = quadtreeMaker(Ascent::Parent)(surface);
+    const Ray ray{vec3(-5.0f, 10.0f, 2.0f), glm::normalize(vec3(1.0f, 0.1f, 0.0f)), kInfinity};
+    const Hit hit = tracer.trace(ray);
+    ASSERT_TRUE(hit.hit);
+    EXPECT_NEAR(hit.position.x, 0.0f, 1e-4f);
+    EXPECT_GT(hit.steps, 0);
+}
+
+TEST(Quadtree, StepsGrowSlowlyWithSize) {
+    // Straight down onto fbm: one node per level and a cell test.
+    for (int size : {64, 256, 1024}) {
+        const auto surface = walk_test::makeSurface({"fbm", size, size, EdgeMode::Clamp, 0.1f});
+        const auto tracer = quadtreeMaker(Ascent::Parent)(surface);
+        const Ray ray{vec3(0.37f * size, 0.61f * size, 0.2f * size), vec3(0, 0, -1), kInfinity};
+        const Hit hit = tracer.trace(ray);
+        ASSERT_TRUE(hit.hit);
+        EXPECT_LE(hit.steps, tracer.pyramid().layout().levels + 1) << size;
+    }
+}
+
+TEST(Quadtree, RegistryRow) {
+    const TechniqueInfo* info = findTechnique("quadtree");
+    ASSERT_NE(info, nullptr);
+    EXPECT_EQ(info->contract, Contract::Exact);
+    auto tracer = createTracer("quadtree", walk_test::makeSurface({"fbm", 9, 5, EdgeMode::Repeat,
+                                                                   0.3f}),
+                               {{"ascend", 0.0}, {"max-steps", 12.0}});
+    EXPECT_TRUE(tracer.ok());
+}
+
+}  // namespace
+}  // namespace relief

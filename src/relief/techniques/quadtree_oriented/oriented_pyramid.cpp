@@ -1,0 +1,95 @@
+#include <relief/techniques/quadtree_oriented/oriented_pyramid.h>
+
+#include <relief/core/parallel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace relief {
+
+namespace {
+
+// Relative margin added to each plane: covers rounding the heights to float and the tracer's
+// float evaluation of the plane (a few ulps of the largest term).
+constexpr double kPlaneMargin = 2e-6;
+
+// Rounds up: the stored height is never below the double-precision bound.
+float roundUp(double value) {
+    const float f = float(value);
+    return double(f) >= value ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
+}
+
+// Mean of the existing children maxima in a column (or row) of the 2×2 block, or NaN if none.
+double meanMax(const MaxPyramid& maxima, int level, int x, int y, bool column) {
+    const PyramidLayout& layout = maxima.layout();
+    double sum = 0.0;
+    int count = 0;
+    for (int k = 0; k < 2; ++k) {
+        const int cx = column ? x : x + k, cy = column ? y + k : y;
+        if (cx >= layout.widthAt(level) || cy >= layout.heightAt(level)) continue;
+        sum += maxima.at(level, cx, cy);
+        ++count;
+    }
+    return count ? sum / count : std::nan("");
+}
+
+// The slope of a node at `level` along one axis: the difference of its children's maxima over the
+// distance between the children's centres (0 when there is a single child along that axis).
+double childSlope(const MaxPyramid& maxima, int level, int nx, int ny, bool alongX) {
+    const int fine = level - 1, x = 2 * nx, y = 2 * ny;
+    const double low = meanMax(maxima, fine, x, y, alongX);
+    const double high =
+        alongX ? meanMax(maxima, fine, x + 1, y, true) : meanMax(maxima, fine, x, y + 1, false);
+    if (std::isnan(high)) return 0.0;
+    return (high - low) / double(1 << fine);
+}
+
+}  // namespace
+
+OrientedPyramid::OrientedPyramid(const VertexGrid& vertices, const MaxPyramid& maxima)
+    : m_layout(maxima.layout()) {
+    size_t count = 0;
+    for (int level = 1; level < m_layout.levels; ++level)
+        count += size_t(m_layout.widthAt(level)) * size_t(m_layout.heightAt(level));
+    m_nodes.resize(count);
+    size_t offset = 0;
+    for (int level = 1; level < m_layout.levels; ++level) {
+        m_levels[size_t(level)] = {m_nodes.data() + offset, m_layout.widthAt(level)};
+        offset += size_t(m_layout.widthAt(level)) * size_t(m_layout.heightAt(level));
+        buildLevel(level, vertices, maxima);
+    }
+}
+
+void OrientedPyramid::buildLevel(int level, const VertexGrid& vertices,
+                                 const MaxPyramid& maxima) {
+    const int side = 1 << level, width = m_layout.widthAt(level);
+    parallelRanges(m_layout.heightAt(level), 1, [&](int64_t begin, int64_t end) {
+        for (int ny = int(begin); ny < int(end); ++ny) {
+            const int loY = ny * side, hiY = std::min(loY + side, m_layout.cellsY);
+            for (int nx = 0; nx < width; ++nx) {
+                const int loX = nx * side, hiX = std::min(loX + side, m_layout.cellsX);
+                const double sx = childSlope(maxima, level, nx, ny, true);
+                const double sy = childSlope(maxima, level, nx, ny, false);
+                // Lowest offset with plane ≥ every vertex of the node's cells (vertices
+                // lo..hi inclusive: cell k has corners k and k+1).
+                double offset = -std::numeric_limits<double>::infinity();
+                for (int l = loY; l <= hiY; ++l) {
+                    const float* row = vertices.row(l);
+                    double rowMax = -std::numeric_limits<double>::infinity();
+                    for (int k = loX; k <= hiX; ++k)
+                        rowMax = std::max(rowMax, double(row[k]) - sx * double(k - loX));
+                    offset = std::max(offset, rowMax - sy * double(l - loY));
+                }
+                const double c10 = offset + sx * side, c01 = offset + sy * side;
+                const double margin =
+                    kPlaneMargin * (std::abs(offset) + std::abs(c10) + std::abs(c01) + 1.0);
+                m_levels[size_t(level)].nodes[size_t(ny) * size_t(width) + size_t(nx)] = {
+                    roundUp(offset + margin), roundUp(c10 + margin), roundUp(c01 + margin),
+                    maxima.at(level, nx, ny)};
+            }
+        }
+    });
+}
+
+}  // namespace relief

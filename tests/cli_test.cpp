@@ -1,0 +1,119 @@
+// CLI tests as data: command line, expected exit code, expected fragments of stdout / stderr.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliCase {
+    const char* name;
+    std::string args;  // after "relief"; {tmp} and {src} are substituted
+    int exitCode;
+    const char* stdoutFragment;
+    const char* stderrFragment;
+};
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Cli : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        tmp = fs::temp_directory_path() / ("relief_cli_test_" + std::to_string(::getpid()));
+        fs::create_directories(tmp);
+        std::ofstream(tmp / "rays.csv") << "ox,oy,oz,dx,dy,dz\n8,8,30,0.1,0.2,-1\n-5,5,1,1,0,0\n";
+        std::ofstream(tmp / "nan.csv") << "1,2,3,nan,0,-1\n";
+        std::ofstream(tmp / "short.csv") << "1,2,3,0,-1\n";
+        std::ofstream(tmp / "zero.csv") << "1,2,3,0,0,0\n";
+        std::ofstream(tmp / "garbage.png") << "this is not an image at all";
+        std::ofstream(tmp / "empty.png");
+        const std::string png = readFile(fs::path(RELIEF_SOURCE_DIR) / "data/colorado-elevation-400.png");
+        std::ofstream(tmp / "truncated.png", std::ios::binary) << png.substr(0, png.size() / 2);
+        std::ofstream(tmp / "raw.bin", std::ios::binary) << std::string(100, '\x10');
+    }
+    static void TearDownTestSuite() { fs::remove_all(tmp); }
+
+    static void run(const CliCase& c) {
+        std::string args = c.args;
+        for (auto [key, value] : {std::pair<std::string, std::string>{"{tmp}", tmp.string()},
+                                  {"{src}", RELIEF_SOURCE_DIR}})
+            for (size_t p; (p = args.find(key)) != std::string::npos;) args.replace(p, key.size(), value);
+        const fs::path out = tmp / "stdout.txt", err = tmp / "stderr.txt";
+        const std::string command = std::string(RELIEF_CLI_PATH) + " " + args + " >" + out.string() +
+                                    " 2>" + err.string();
+        const int status = std::system(command.c_str());
+        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        const std::string stdoutText = readFile(out), stderrText = readFile(err);
+        EXPECT_EQ(code, c.exitCode) << c.name << ": relief " << args << "\nstderr: " << stderrText;
+        EXPECT_NE(stdoutText.find(c.stdoutFragment), std::string::npos)
+            << c.name << ": stdout lacks '" << c.stdoutFragment << "':\n" << stdoutText;
+        EXPECT_NE(stderrText.find(c.stderrFragment), std::string::npos)
+            << c.name << ": stderr lacks '" << c.stderrFragment << "':\n" << stderrText;
+    }
+    static inline fs::path tmp;
+};
+
+const CliCase kCases[] = {
+    // Working commands.
+    {"trace exact", "trace gen:peaks6:32x32 --rays {tmp}/rays.csv", 0, "hit,t,x,y,z,steps\n1,", ""},
+    {"trace linear", "trace gen:peaks6:32x32 -t linear --max-steps 16 --param binary-steps=4 --rays {tmp}/rays.csv -o -", 0, "hit,t", ""},
+    {"info text", "info gen:fbm:40x30", 0, "40x30 samples", ""},
+    {"info json", "info gen:ramp:8x8 --format json", 0, "\"width\": 8", ""},
+    {"info real map", "info {src}/data/colorado-elevation-400.png", 0, "400x400", ""},
+    {"render", "render gen:peaks6:32x32 --size 40x30 -o {tmp}/r.png --deterministic", 0, "| exact | exact |", ""},
+    {"render all", "render gen:walls:24x24 -t all --size 32x24 --out-dir {tmp}/all --format json --deterministic", 0, "\"technique\": \"parallax\"", ""},
+    {"version", "--version", 0, "relief", ""},
+    // Bad arguments: exit 1.
+    {"unknown technique", "trace gen:flat:8x8 -t nope --rays {tmp}/rays.csv", 1, "", "unknown technique 'nope'"},
+    {"unknown option", "trace gen:flat:8x8 --frobnicate --rays {tmp}/rays.csv", 1, "", "relief: error:"},
+    {"no command", "", 1, "", "relief: error:"},
+    {"unknown generator", "info gen:mountains:8x8", 1, "", "unknown generator 'mountains'"},
+    {"bad generator spec", "info gen:fbm:8by8", 1, "", "gen:NAME:WxH"},
+    {"unknown param", "trace gen:flat:8x8 -t linear --param warp=2 --rays {tmp}/rays.csv", 1, "", "no parameter 'warp'"},
+    {"param out of range", "trace gen:flat:8x8 -t linear --max-steps 0 --rays {tmp}/rays.csv", 1, "", "out of range"},
+    {"bad param syntax", "trace gen:flat:8x8 -t linear --param binary-steps --rays {tmp}/rays.csv", 1, "", "NAME=NUMBER"},
+    {"bad edge", "info gen:flat:8x8 --edge mirror", 1, "", "relief: error:"},
+    {"negative depth", "trace gen:flat:8x8 --depth -3 --rays {tmp}/rays.csv", 1, "", "depth"},
+    {"bad image size", "render gen:flat:8x8 --size 0x10 -o {tmp}/x.png", 1, "", "--size"},
+    {"render without output", "render gen:flat:8x8", 1, "", "-o FILE.png"},
+    {"bad height range", "info gen:flat:8x8 --height-range 5:1", 1, "", "--height-range"},
+    {"bad raw layout", "info {tmp}/raw.bin --raw 10x10:u12", 1, "", "u8, u16 or f32"},
+    // I/O errors: exit 2.
+    {"missing heightfield", "info {tmp}/does-not-exist.png", 2, "", "does-not-exist.png"},
+    {"missing ray file", "trace gen:flat:8x8 --rays {tmp}/none.csv", 2, "", "none.csv"},
+    {"output folder missing", "render gen:flat:8x8 --size 8x8 -o {tmp}/no/such/dir/x.png", 2, "", "does not exist"},
+    // Invalid input: exit 3.
+    {"zero size generator", "info gen:fbm:0x10", 3, "", "invalid size"},
+    {"absurd size", "info gen:fbm:100000x100000", 3, "", "exceeds the limit"},
+    {"garbage image", "info {tmp}/garbage.png", 3, "", "garbage.png"},
+    {"empty image", "info {tmp}/empty.png", 3, "", "empty.png"},
+    {"truncated png", "info {tmp}/truncated.png", 3, "", "truncated.png"},
+    {"raw wrong size", "info {tmp}/raw.bin --raw 20x20:u8", 3, "", "raw.bin"},
+    {"nan in rays", "trace gen:flat:8x8 --rays {tmp}/nan.csv", 3, "", "nan.csv:1: non-finite"},
+    {"short ray line", "trace gen:flat:8x8 --rays {tmp}/short.csv", 3, "", "short.csv:1: expected six numbers"},
+    {"zero direction", "trace gen:flat:8x8 --rays {tmp}/zero.csv", 3, "", "zero or unusable direction"},
+};
+
+TEST_F(Cli, Table) {
+    for (const CliCase& c : kCases) run(c);
+}
+
+TEST_F(Cli, FailedRenderLeavesNoPartialOutput) {
+    // An unreadable colour map fails after the render; nothing may be left in the folder.
+    const fs::path dir = tmp / "atomic";
+    fs::create_directories(dir);
+    run({"bad colour map", "render gen:flat:8x8 --size 8x8 --color {tmp}/garbage.png -o {tmp}/atomic/x.png", 3, "", "garbage.png"});
+    EXPECT_TRUE(fs::is_empty(dir));
+}
+
+}  // namespace

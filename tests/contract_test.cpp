@@ -1,0 +1,145 @@
+// The contract harness (DESIGN §3): every technique in the registry is traced against `exact` on
+// random and adversarial rays over all standard generators, both edge modes and odd sizes.
+// exact → same hit/miss and |Δt| ≤ 1e-3; conservative → never past the first hit (t ≤ t_ref +
+// 1e-4) and converged within 1e-3 at its default cap; approximate → statistics are recorded.
+#include "ray_sets.h"
+
+#include <relief/core/generators.h>
+#include <relief/techniques/registry.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace relief {
+namespace {
+
+struct MapCase {
+    const char* generator;
+    int width, height;
+    EdgeMode edge;
+};
+
+std::vector<MapCase> mapCases() {
+    std::vector<MapCase> cases;
+    for (const char* g : {"sine", "peaks6", "fbm", "walls", "spikes", "terraces", "ramp", "flat"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            cases.push_back({g, 37, 23, edge});
+            cases.push_back({g, 64, 64, edge});
+        }
+    return cases;
+}
+
+struct Tally {
+    size_t rays = 0, wrongHitMiss = 0, beyondTolerance = 0, pastFirstHit = 0;
+    double maxError = 0.0, sumError = 0.0;
+    size_t bothHit = 0;
+};
+
+void check(const TechniqueInfo& info, const Ray& ray, const Hit& h, const Hit& ref, Tally& tally) {
+    ++tally.rays;
+    if (h.hit && ref.hit) {
+        const double e = std::abs(double(h.t) - double(ref.t));
+        ++tally.bothHit;
+        tally.sumError += e;
+        tally.maxError = std::max(tally.maxError, e);
+        if (e > 1e-3) ++tally.beyondTolerance;
+        if (h.t > ref.t + 1e-4f) ++tally.pastFirstHit;
+    } else if (h.hit != ref.hit) {
+        ++tally.wrongHitMiss;
+        if (h.hit && !ref.hit) ++tally.pastFirstHit;
+    }
+    if (h.hit) {
+        EXPECT_TRUE(std::isfinite(h.t) && h.t >= 0.0f) << info.name;
+        EXPECT_LT(glm::length(h.position - ray.at(h.t)), 1e-3f * std::max(1.0f, h.t)) << info.name;
+    }
+}
+
+class ContractTest : public ::testing::TestWithParam<std::string_view> {};
+
+TEST_P(ContractTest, AgainstExactReference) {
+    const TechniqueInfo& info = *findTechnique(GetParam());
+    Tally tally;
+    uint32_t seed = 1;
+    for (const MapCase& c : mapCases()) {
+        auto hf = std::make_shared<const Heightfield>(
+            *generateHeightfield(c.generator, c.width, c.height, seed));
+        auto surface = std::make_shared<const Surface>(hf, 0.25f * float(c.width), c.edge);
+        auto tracer = createTracer(info.name, surface);
+        ASSERT_TRUE(tracer.ok()) << tracer.error().message;
+        auto exact = createTracer("exact", surface);
+        testing::RaySets sets(*surface, seed++);
+        const std::vector<Ray> rays = sets.all(1200);
+        std::vector<Hit> hits(rays.size()), reference(rays.size());
+        (*tracer)->traceBatch(rays, hits);
+        (*exact)->traceBatch(rays, reference);
+        const Tally before = tally;
+        for (size_t k = 0; k < rays.size(); ++k) check(info, rays[k], hits[k], reference[k], tally);
+        if (info.contract != Contract::Approximate &&
+            (tally.wrongHitMiss != before.wrongHitMiss || tally.pastFirstHit != before.pastFirstHit))
+            ADD_FAILURE() << info.name << " broke its contract on " << c.generator << " " << c.width
+                          << "x" << c.height << " " << toString(c.edge);
+    }
+    std::printf("[ contract ] %-18s %-12s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
+                "past first hit %zu, mean |dt| %.3g, max |dt| %.3g\n",
+                std::string(info.name).c_str(), std::string(toString(info.contract)).c_str(),
+                tally.rays, tally.wrongHitMiss, tally.beyondTolerance, tally.pastFirstHit,
+                tally.bothHit ? tally.sumError / double(tally.bothHit) : 0.0, tally.maxError);
+    EXPECT_GE(tally.rays, 100000u);
+    switch (info.contract) {
+        case Contract::Exact:
+            EXPECT_EQ(tally.wrongHitMiss, 0u);
+            EXPECT_EQ(tally.beyondTolerance, 0u);
+            break;
+        case Contract::Conservative:
+            EXPECT_EQ(tally.pastFirstHit, 0u);
+            EXPECT_EQ(tally.wrongHitMiss, 0u);
+            EXPECT_EQ(tally.beyondTolerance, 0u);
+            break;
+        case Contract::Approximate:
+            break;  // recorded above; the bench reports it
+    }
+}
+
+std::vector<std::string_view> allTechniqueNames() {
+    std::vector<std::string_view> names;
+    for (const TechniqueInfo& info : techniques()) names.push_back(info.name);
+    return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, ContractTest, ::testing::ValuesIn(allTechniqueNames()),
+                         [](const auto& info) {
+                             std::string name(info.param);
+                             for (char& c : name)
+                                 if (c == '-') c = '_';
+                             return name;
+                         });
+
+TEST(Registry, EveryRowIsComplete) {
+    for (const TechniqueInfo& info : techniques()) {
+        EXPECT_FALSE(info.name.empty());
+        EXPECT_FALSE(info.paper.empty()) << info.name;
+        EXPECT_FALSE(info.summary.empty()) << info.name;
+        EXPECT_NE(info.create, nullptr) << info.name;
+        EXPECT_EQ(findTechnique(info.name), &info) << "duplicate name " << info.name;
+        for (const ParamSpec& p : info.params) {
+            EXPECT_LE(p.minValue, p.defaultValue) << info.name << " " << p.name;
+            EXPECT_LE(p.defaultValue, p.maxValue) << info.name << " " << p.name;
+        }
+    }
+}
+
+TEST(Registry, RejectsUnknownAndOutOfRangeParameters) {
+    auto hf = std::make_shared<const Heightfield>(*generateHeightfield("flat", 4, 4));
+    auto surface = std::make_shared<const Surface>(hf, 1.0f, EdgeMode::Clamp);
+    auto unknown = createTracer("linear", surface, {{"no-such", 1.0}});
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().message.find("no parameter 'no-such'"), std::string::npos);
+    auto range = createTracer("linear", surface, {{"max-steps", 0.0}});
+    ASSERT_FALSE(range.ok());
+    EXPECT_NE(range.error().message.find("out of range"), std::string::npos);
+    EXPECT_FALSE(createTracer("nope", surface).ok());
+}
+
+}  // namespace
+}  // namespace relief

@@ -1,0 +1,169 @@
+// CPU vs GLSL, per technique (STYLE: "a differential test per technique"): a fixed ray set on two
+// maps and both edge modes is traced by the C++ tracer (createTracer) and by its GLSL twin
+// (createGlTracer); every registry row with a `glsl` is tested, none is listed by hand.
+//
+// Contracts (DESIGN §3), and what the two sides may differ by:
+// - exact: same hit/miss and |Δt| ≤ 1e-3, except float-edge rays (a ray grazing a cell edge or a
+//   plane, where GPU and CPU rounding decide differently: at most 0.1%, printed).
+// - approximate: hit rates within 1 point and mean |Δt| over rays both sides hit ≤ 0.01 texel
+//   (the GLSL is the same arithmetic; only a bilinear test that rounds the other way can move a
+//   linear step or a bisection).
+// - all: steps and fetches equal for at least 99% of rays.
+#include "gl_test_support.h"
+
+#include <relief/gl/gl_tracer.h>
+#include <relief/techniques/registry.h>
+
+#include <cmath>
+#include <random>
+
+namespace relief {
+namespace {
+
+// Rays from outside the box aimed inside it, rays from just above S in any direction, and
+// axis-parallel or vertical rays on cell edges (fixed seed).
+std::vector<Ray> differentialRays(const Surface& s, uint32_t seed) {
+    std::mt19937 rng(seed);
+    auto uniform = [&](float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(rng);
+    };
+    const vec3 size(float(s.width()), float(s.height()), s.depth());
+    const vec3 centre = 0.5f * size;
+    const float radius = 1.5f * glm::length(size);
+    std::vector<Ray> rays;
+    for (int k = 0; k < 1200; ++k) {
+        const float el = glm::radians(uniform(-5.0f, 89.0f)), az = uniform(0.0f, 6.2832f);
+        const vec3 o = centre + radius * vec3(std::cos(el) * std::cos(az),
+                                              std::cos(el) * std::sin(az), std::sin(el));
+        const vec3 target(uniform(0, size.x), uniform(0, size.y), uniform(0, size.z));
+        rays.push_back(Ray{o, glm::normalize(target - o), kInfinity});
+    }
+    for (int k = 0; k < 400; ++k) {
+        const float x = uniform(0, size.x), y = uniform(0, size.y);
+        const float z = s.heightAt(x, y) + 0.01f + uniform(0.0f, 0.5f * size.z);
+        vec3 d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1));
+        if (glm::length(d) < 1e-3f) d = vec3(0, 0, -1);
+        rays.push_back(Ray{vec3(x, y, z), glm::normalize(d), kInfinity});
+    }
+    const float top = s.maxZ() + 0.5f;
+    for (int k = 0; k < 200; ++k) {
+        const float edgeX = std::floor(uniform(0, size.x)) + 0.5f;
+        const float edgeY = std::floor(uniform(0, size.y)) + 0.5f;
+        switch (k % 3) {
+            case 0:
+                rays.push_back(Ray{vec3(-1.0f, edgeY, top),
+                                   glm::normalize(vec3(1, 0, -uniform(0.02f, 0.3f))), kInfinity});
+                break;
+            case 1:
+                rays.push_back(Ray{vec3(edgeX, -1.0f, top),
+                                   glm::normalize(vec3(0, 1, -uniform(0.02f, 0.3f))), kInfinity});
+                break;
+            default:
+                rays.push_back(Ray{vec3(edgeX + 0.25f, edgeY, top), vec3(0, 0, -1), kInfinity});
+                break;
+        }
+    }
+    return rays;
+}
+
+struct Scene {
+    std::string name;
+    std::shared_ptr<const Surface> surface;
+};
+
+std::vector<Scene> scenes() {
+    std::vector<Scene> all;
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const std::string mode(toString(edge));
+        all.push_back({"peaks6 64x48 " + mode,
+                       testing::generatedSurface("peaks6", 64, 48, 0.15f, edge, 7)});
+        all.push_back({"walls 40x40 " + mode,
+                       testing::generatedSurface("walls", 40, 40, 0.15f, edge, 3)});
+    }
+    return all;
+}
+
+std::vector<const TechniqueInfo*> glTechniques() {
+    std::vector<const TechniqueInfo*> list;
+    for (const TechniqueInfo& info : techniques())
+        if (!info.glsl.empty()) list.push_back(&info);
+    return list;
+}
+
+class CpuVsGl : public ::testing::TestWithParam<const TechniqueInfo*> {};
+
+TEST_P(CpuVsGl, AgreeOnFixedRays) {
+    RELIEF_REQUIRE_GL();
+    const TechniqueInfo& info = *GetParam();
+    auto params = resolveParams(info, {});
+    ASSERT_TRUE(params) << params.error().message;
+
+    size_t total = 0, hitMismatch = 0, tMismatch = 0, stepsDiffer = 0, fetchesDiffer = 0;
+    size_t cpuHits = 0, glHits = 0, bothHit = 0;
+    double sumAbsDt = 0.0, maxAbsDt = 0.0;
+    for (const Scene& scene : scenes()) {
+        ASSERT_TRUE(scene.surface);
+        const std::vector<Ray> rays = differentialRays(*scene.surface, 11);
+        auto cpu = createTracer(info.name, scene.surface);
+        ASSERT_TRUE(cpu) << cpu.error().message;
+        auto gpu = createGlTracer(info, TechniqueInput{scene.surface, *params});
+        ASSERT_TRUE(gpu) << gpu.error().message;
+        std::vector<Hit> cpuHit(rays.size()), glHit(rays.size());
+        (*cpu)->traceBatch(rays, cpuHit);
+        (*gpu)->traceBatch(rays, glHit);
+        for (size_t k = 0; k < rays.size(); ++k) {
+            const Hit& a = cpuHit[k];
+            const Hit& b = glHit[k];
+            ++total;
+            cpuHits += a.hit;
+            glHits += b.hit;
+            stepsDiffer += a.steps != b.steps;
+            fetchesDiffer += a.fetches != b.fetches;
+            const double dt = a.hit && b.hit ? std::abs(double(a.t) - double(b.t)) : 0.0;
+            if (a.hit && b.hit) {
+                ++bothHit;
+                sumAbsDt += dt;
+                maxAbsDt = std::max(maxAbsDt, dt);
+            }
+            const bool hitDiffers = a.hit != b.hit, tDiffers = dt > 1e-3;
+            hitMismatch += hitDiffers;
+            tMismatch += tDiffers;
+            if (info.contract == Contract::Exact && (hitDiffers || tDiffers)) {
+                const Ray& r = rays[k];
+                std::printf("  %s [%s] ray %zu o=(%.9g, %.9g, %.9g) d=(%.9g, %.9g, %.9g): "
+                            "cpu %s t=%.7g steps=%d, gl %s t=%.7g steps=%d\n",
+                            info.name.data(), scene.name.c_str(), k, r.origin.x, r.origin.y,
+                            r.origin.z, r.direction.x, r.direction.y, r.direction.z,
+                            a.hit ? "hit" : "miss", a.t, a.steps, b.hit ? "hit" : "miss", b.t,
+                            b.steps);
+            }
+        }
+    }
+    const double meanAbsDt = bothHit ? sumAbsDt / double(bothHit) : 0.0;
+    std::printf("%s (%s): %zu rays, cpu hits %zu, gl hits %zu, hit/miss differ %zu, "
+                "|dt|>1e-3 %zu, mean |dt| %.3g, max |dt| %.3g, steps differ %zu, "
+                "fetches differ %zu\n",
+                info.name.data(), toString(info.contract).data(), total, cpuHits, glHits,
+                hitMismatch, tMismatch, meanAbsDt, maxAbsDt, stepsDiffer, fetchesDiffer);
+
+    ASSERT_GT(total, 0u);
+    if (info.contract == Contract::Exact) {
+        EXPECT_LE(double(hitMismatch + tMismatch), 1e-3 * double(total));
+    } else {
+        EXPECT_LE(std::abs(double(cpuHits) - double(glHits)), 0.01 * double(total));
+        EXPECT_LE(meanAbsDt, 0.01);
+    }
+    EXPECT_LE(double(stepsDiffer), 0.01 * double(total));
+    EXPECT_LE(double(fetchesDiffer), 0.01 * double(total));
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, CpuVsGl, ::testing::ValuesIn(glTechniques()),
+                         [](const ::testing::TestParamInfo<const TechniqueInfo*>& p) {
+                             std::string name;
+                             for (char c : p.param->name)
+                                 name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                             return name;
+                         });
+
+}  // namespace
+}  // namespace relief
