@@ -42,7 +42,8 @@ template <class TraceRange>
 void forEachTile(size_t rayCount, TraceRange&& trace) {
     const int64_t tiles = int64_t(rayCount / (kTile * kTile));
     parallelRanges(tiles, 1, [&](int64_t begin, int64_t end) {
-        for (int64_t t = begin; t < end; ++t) trace(size_t(t) * kTile * kTile, size_t(kTile * kTile));
+        for (int64_t t = begin; t < end; ++t)
+            trace(size_t(t) * kTile * kTile, size_t(kTile * kTile));
     });
 }
 
@@ -69,8 +70,7 @@ inline std::string machineDescription() {
             break;
         }
     }
-    return model + ", " + std::to_string(std::thread::hardware_concurrency()) +
-           " hardware threads";
+    return model + ", " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
 }
 
 inline std::string todayUtc() {

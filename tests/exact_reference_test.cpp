@@ -2,22 +2,21 @@
 // over the solid's triangles on small adversarial maps, and against Embree on the same triangles
 // with 10^5+ rays on larger maps. Every disagreement is classified; the kinds that are not
 // `exact`'s fault each have a named test below that shows one and says who is right.
-#include "brute_force.h"
-
+#include <gtest/gtest.h>
 #include <relief/core/generators.h>
 #include <relief/embree/embree_scene.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/techniques/exact/exact.h>
 #include <relief/techniques/registry.h>
 
-#include <gtest/gtest.h>
-
 #include <cfloat>
 #include <cstdio>
-#include <span>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "brute_force.h"
 
 namespace relief {
 namespace {
@@ -53,8 +52,8 @@ Ray rayThrough(const vec3& from, const vec3& to) {
 std::string describe(const Ray& r) {
     char text[256];
     std::snprintf(text, sizeof text, "o=(%a, %a, %a) d=(%a, %a, %a) [o=(%.6g, %.6g, %.6g)]",
-                  r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y,
-                  r.direction.z, r.origin.x, r.origin.y, r.origin.z);
+                  r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z,
+                  r.origin.x, r.origin.y, r.origin.z);
     return text;
 }
 
@@ -64,10 +63,12 @@ std::string describe(const Ray& r) {
 enum class Family { Above, Side, Inside };
 
 class RayMaker {
-public:
+  public:
     RayMaker(const Surface& s, uint64_t seed) : m_s(s), m_rng(seed) {}
 
-    float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(m_rng); }
+    float uniform(float lo, float hi) {
+        return std::uniform_real_distribution<float>(lo, hi)(m_rng);
+    }
 
     vec3 boxPoint() {
         return {uniform(0.0f, float(m_s.width())), uniform(0.0f, float(m_s.height())),
@@ -88,10 +89,18 @@ public:
                 vec3 o(uniform(-0.5f * w, 1.5f * w), uniform(-0.5f * h, 1.5f * h),
                        uniform(0.0f, 1.5f * d));
                 switch (std::uniform_int_distribution<int>(0, 3)(m_rng)) {
-                    case 0: o.x = -out; break;
-                    case 1: o.x = w + out; break;
-                    case 2: o.y = -out; break;
-                    default: o.y = h + out; break;
+                    case 0:
+                        o.x = -out;
+                        break;
+                    case 1:
+                        o.x = w + out;
+                        break;
+                    case 2:
+                        o.y = -out;
+                        break;
+                    default:
+                        o.y = h + out;
+                        break;
                 }
                 return rayThrough(o, boxPoint());
             }
@@ -111,7 +120,7 @@ public:
         }
     }
 
-private:
+  private:
     const Surface& m_s;
     std::mt19937_64 m_rng;
 };
@@ -121,8 +130,8 @@ private:
 
 struct OracleStats {
     int rays = 0, hits = 0;
-    int disagreements = 0;   // exact and brute force differ
-    int roundingDecided = 0; // ... but exact is right for a ray within float rounding
+    int disagreements = 0;    // exact and brute force differ
+    int roundingDecided = 0;  // ... but exact is right for a ray within float rounding
     double maxDt = 0.0;
 };
 
@@ -182,8 +191,8 @@ std::vector<SmallMap> smallMaps() {
     add("fbm", 9, 9, 0.0f);  // depth 0: the box is flat, S is its base
     // Hand-made: a one-texel pit and a saddle whose cells take both diagonals.
     maps.push_back({"pit 3x3", fromValues({1, 1, 1, 1, 0, 1, 1, 1, 1}, 3, 3), 2.0f});
-    maps.push_back({"saddle 4x4",
-                    fromValues({0, 1, 0, 1, 1, 0, 1, 0, 0, 1, 0, 1, 1, 0, 1, 0}, 4, 4), 3.0f});
+    maps.push_back(
+        {"saddle 4x4", fromValues({0, 1, 0, 1, 1, 0, 1, 0, 0, 1, 0, 1, 1, 0, 1, 0}, 4, 4), 3.0f});
     return maps;
 }
 
@@ -206,13 +215,13 @@ TEST(ExactReference, MatchesBruteForceOnSmallMaps) {
         total.roundingDecided += stats.roundingDecided;
         total.maxDt = std::max(total.maxDt, stats.maxDt);
     }
-    std::printf("[ exact vs brute force ] %d rays, %d hits, %d disagreements (%d decided by float "
-                "rounding), max |dt| = %.3g texel\n",
-                total.rays, total.hits, total.disagreements, total.roundingDecided, total.maxDt);
+    std::printf(
+        "[ exact vs brute force ] %d rays, %d hits, %d disagreements (%d decided by float "
+        "rounding), max |dt| = %.3g texel\n",
+        total.rays, total.hits, total.disagreements, total.roundingDecided, total.maxDt);
     EXPECT_GT(total.rays, 40000);
     EXPECT_EQ(total.disagreements, total.roundingDecided);
 }
-
 
 // Regression: maps with samples at 0 (every normalized map has one; walls and spikes are mostly
 // 0) have S in the box's bottom face. The walk ends at tExit on that face, and before the fix the
@@ -229,8 +238,11 @@ TEST(ExactReference, FloorOfZeroSamplesIsHit) {
         const double tFloor = -double(r.origin.z) / double(r.direction.z);
         const vec3 p = r.at(float(tFloor));
         if (p.x < 0.0f || p.x > 8.0f || p.y < 0.0f || p.y > 8.0f) continue;  // through a side
-        missed += !e.hit;
-        if (e.hit) EXPECT_NEAR(e.t, tFloor, kTolerance) << describe(r);
+        if (!e.hit) {
+            ++missed;
+            continue;
+        }
+        EXPECT_NEAR(e.t, tFloor, kTolerance) << describe(r);
     }
     EXPECT_EQ(missed, 0);
     // One of the rays that used to miss, on a map with a floor and walls.
@@ -270,8 +282,8 @@ TEST(ExactReference, AxisAlignedAndEdgeRays) {
     maps.push_back({"walls 9x9", generated("walls", 9, 9, 5), 4.5f});
     maps.push_back({"fbm 6x5", generated("fbm", 6, 5), 3.0f});
     maps.push_back({"terraces 16x16", generated("terraces", 16, 16), 4.8f});
-    maps.push_back({"saddle 4x4",
-                    fromValues({0, 1, 0, 1, 1, 0, 1, 0, 0, 1, 0, 1, 1, 0, 1, 0}, 4, 4), 3.0f});
+    maps.push_back(
+        {"saddle 4x4", fromValues({0, 1, 0, 1, 1, 0, 1, 0, 0, 1, 0, 1, 1, 0, 1, 0}, 4, 4), 3.0f});
     OracleStats total;
     for (const SmallMap& m : maps) {
         const auto s = makeSurface(m.hf, m.depth);
@@ -307,9 +319,10 @@ TEST(ExactReference, AxisAlignedAndEdgeRays) {
         total.roundingDecided += stats.roundingDecided;
         total.maxDt = std::max(total.maxDt, stats.maxDt);
     }
-    std::printf("[ exact vs brute force, edge rays ] %d rays, %d hits, %d disagreements (%d "
-                "decided by float rounding), max |dt| = %.3g texel\n",
-                total.rays, total.hits, total.disagreements, total.roundingDecided, total.maxDt);
+    std::printf(
+        "[ exact vs brute force, edge rays ] %d rays, %d hits, %d disagreements (%d "
+        "decided by float rounding), max |dt| = %.3g texel\n",
+        total.rays, total.hits, total.disagreements, total.roundingDecided, total.maxDt);
     EXPECT_EQ(total.disagreements, total.roundingDecided);
 }
 
@@ -379,10 +392,10 @@ TEST(ExactReference, RepeatModeMatchesTiledBruteForce) {
                               << " t=" << e.t << ", brute force " << b.hit << " t=" << b.t;
         }
     }
-    std::printf("[ exact (repeat) vs tiled brute force ] %d rays (%d leaving the copies skipped), "
-                "%d hits, %d disagreements (%d decided by float rounding), max |dt| = %.3g\n",
-                total.rays, skipped, total.hits, total.disagreements, total.roundingDecided,
-                total.maxDt);
+    std::printf(
+        "[ exact (repeat) vs tiled brute force ] %d rays (%d leaving the copies skipped), "
+        "%d hits, %d disagreements (%d decided by float rounding), max |dt| = %.3g\n",
+        total.rays, skipped, total.hits, total.disagreements, total.roundingDecided, total.maxDt);
     EXPECT_GT(total.rays, 10000);
     EXPECT_EQ(total.disagreements, total.roundingDecided);
 }
@@ -390,13 +403,15 @@ TEST(ExactReference, RepeatModeMatchesTiledBruteForce) {
 // ---------------------------------------------------------------------------------------------
 // Task B: exact vs Embree on the same triangles (clamp mode), intersect1 and intersect16.
 
-// Every disagreement between exact and Embree, judged by the double-precision brute force. Kinds:
-// - illConditioned: the brute force sides with exact, and Embree is right too for a ray within
+// Every disagreement between exact and Embree, judged by the double-precision brute force
+// (classifyDisagreement in brute_force.h). Kinds:
+// - ill-conditioned: the brute force sides with exact, and Embree is right too for a ray within
 //   float rounding of this one (grazing rays: t ill-conditioned; touching rays: hit/miss decided
 //   by rounding). See GrazingRayHasIllConditionedT and TouchingRayIsDecidedByRounding.
-// - embreeWrong: the brute force sides with exact and rejects Embree's answer even within
+// - Embree wrong: the brute force sides with exact and rejects Embree's answer even within
 //   rounding (Embree's ray-triangle test is not watertight). See EmbreeLeaksThroughVertices.
-// - exactRounding: the brute force disagrees with exact but exact is right within rounding.
+// - exact decided by rounding: the brute force differs from exact, but exact is right within
+//   rounding (touching rays again, the other way round).
 // - unexplained: exact is wrong. Must never happen.
 struct PeerStats {
     int agree = 0, illConditioned = 0, embreeWrong = 0, exactRounding = 0, unexplained = 0;
@@ -411,33 +426,38 @@ void judge(const BruteForceTracer& oracle, const Ray& r, const Hit& e, const Hit
         if (e.hit && p.hit) stats.maxDt = std::max(stats.maxDt, double(std::abs(e.t - p.t)));
         return;
     }
-    const BruteHit b = oracle.trace(r);
-    const char* kind = "unexplained";
-    if (sameAnswer(e.hit, e.t, b.hit, b.t, kTolerance)) {
-        const bool embreeWithinRounding = oracle.agreesWithinRounding(r, p.hit, p.t);
-        ++(embreeWithinRounding ? stats.illConditioned : stats.embreeWrong);
-        kind = embreeWithinRounding ? "ill-conditioned" : "Embree wrong";
-    } else if (oracle.agreesWithinRounding(r, e.hit, e.t)) {
-        ++stats.exactRounding;
-        kind = "exact decided by rounding";
-    } else {
-        ++stats.unexplained;
-        ADD_FAILURE() << what << ": " << describe(r) << "\n  exact " << e.hit << " t=" << e.t
-                      << ", Embree " << p.hit << " t=" << p.t << ", brute force " << b.hit
-                      << " t=" << b.t;
+    BruteHit b;
+    const Disagreement kind = classifyDisagreement(oracle, r, e.hit, e.t, p.hit, p.t, &b);
+    switch (kind) {
+        case Disagreement::IllConditioned:
+            ++stats.illConditioned;
+            break;
+        case Disagreement::PeerWrong:
+            ++stats.embreeWrong;
+            break;
+        case Disagreement::ExactRounding:
+            ++stats.exactRounding;
+            break;
+        case Disagreement::Unexplained:
+            ++stats.unexplained;
+            ADD_FAILURE() << what << ": " << describe(r) << "\n  exact " << e.hit << " t=" << e.t
+                          << ", peer " << p.hit << " t=" << p.t << ", brute force " << b.hit
+                          << " t=" << b.t;
+            break;
     }
     if (verbose)
-        std::printf("  %s, %s: %s\n    exact %d t=%.9g, Embree %d t=%.9g, brute force %d "
-                    "t=%.9g\n",
-                    what.c_str(), kind, describe(r).c_str(), e.hit, e.t, p.hit, p.t, b.hit, b.t);
+        std::printf("  %s, %s: %s\n    exact %d t=%.9g, peer %d t=%.9g, brute force %d t=%.9g\n",
+                    what.c_str(), toString(kind), describe(r).c_str(), e.hit, e.t, p.hit, p.t,
+                    b.hit, b.t);
 }
 
 void printStats(const char* label, const char* peer, int rays, int hits, const PeerStats& st) {
-    std::printf("[ %s vs %s ] %d rays, %d hits (exact), %d agree (max |dt| %.3g texel), "
-                "%d disagree: %d ill-conditioned, %d Embree wrong, %d exact decided by rounding, "
-                "%d unexplained\n",
-                label, peer, rays, hits, st.agree, st.maxDt, st.disagreements(),
-                st.illConditioned, st.embreeWrong, st.exactRounding, st.unexplained);
+    std::printf(
+        "[ %s vs %s ] %d rays, %d hits (exact), %d agree (max |dt| %.3g texel), "
+        "%d disagree: %d ill-conditioned, %d Embree wrong, %d exact decided by rounding, "
+        "%d unexplained\n",
+        label, peer, rays, hits, st.agree, st.maxDt, st.disagreements(), st.illConditioned,
+        st.embreeWrong, st.exactRounding, st.unexplained);
 }
 
 TEST(ExactVsEmbree, AgreesOnRandomRays) {
@@ -489,7 +509,8 @@ TEST(ExactVsEmbree, AgreesOnRandomRays) {
 // Kind "Embree wrong": rays aimed exactly at vertices of S (float rounding puts them a hair to
 // one side). Where the ray enters the solid at the vertex, the answer is well-conditioned (every
 // ray within rounding of it hits there too), yet for about 1% of them Embree's float
-// Möller–Trumbore-style test (not watertight, even with RTC_SCENE_FLAG_ROBUST; embree/embree#387)
+// Möller–Trumbore-style test (not watertight, even with RTC_SCENE_FLAG_ROBUST; see
+// embree/embree#387)
 // misses all six triangles around the vertex and reports a farther facet, or a miss. exact
 // evaluates each cell's two planes as one convex function and cannot slip between them: it agrees
 // with the brute force on every such ray up to rounding (its remaining differences are the
@@ -534,9 +555,10 @@ TEST(ExactVsEmbree, EmbreeLeaksThroughVertices) {
             const int before = one.embreeWrong;
             judge(oracle, batch[k], e, p1[k], std::string(gen) + " intersect1", one, false);
             if (one.embreeWrong > before && printed++ < 2)
-                std::printf("  %s: Embree leaks: %s\n    exact t=%.9g, brute force t=%.9g, "
-                            "rtcIntersect1 %d t=%.9g\n",
-                            gen, describe(batch[k]).c_str(), e.t, b.t, p1[k].hit, p1[k].t);
+                std::printf(
+                    "  %s: Embree leaks: %s\n    exact t=%.9g, brute force t=%.9g, "
+                    "rtcIntersect1 %d t=%.9g\n",
+                    gen, describe(batch[k]).c_str(), e.t, b.t, p1[k].hit, p1[k].t);
             judge(oracle, batch[k], e, p16[k], std::string(gen) + " intersect16", sixteen, false);
         }
     }
@@ -587,9 +609,10 @@ TEST(ExactVsEmbree, GrazingRayHasIllConditionedT) {
     (*scene)->intersect1(std::span(&r, 1), std::span(&p, 1));
     ASSERT_TRUE(p.hit);
     EXPECT_TRUE(oracle.agreesWithinRounding(r, p.hit, p.t));
-    std::printf("  grazing ray: sin(angle to facet) %.4f, brute force t=%.7f, exact %+.2e, "
-                "Embree %+.2e, t over 8-ulp moves of the origin [%.5f, %.5f]\n",
-                sinAngle, b.t, e.t - b.t, p.t - b.t, tLo, tHi);
+    std::printf(
+        "  grazing ray: sin(angle to facet) %.4f, brute force t=%.7f, exact %+.2e, "
+        "Embree %+.2e, t over 8-ulp moves of the origin [%.5f, %.5f]\n",
+        sinAngle, b.t, e.t - b.t, p.t - b.t, tLo, tHi);
 }
 
 // Kind "ill-conditioned", hit/miss: a ray that only touches S at one point (over the top of a

@@ -14,9 +14,9 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstring>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -53,15 +53,23 @@ Bytes be16(const std::vector<uint16_t>& values) {
 }
 
 struct PngSpec {
-    int width = 1, height = 1;
-    int colorType = PNG_COLOR_TYPE_GRAY;
-    int bitDepth = 8;
-    bool interlaced = false;
+    PngSpec(int w, int h, int type = PNG_COLOR_TYPE_GRAY, int depth = 8, bool adam7 = false,
+            std::vector<png_color> colours = {})
+        : width(w), height(h), colorType(type), bitDepth(depth), interlaced(adam7),
+          palette(std::move(colours)) {}
+    int width, height;
+    int colorType;
+    int bitDepth;
+    bool interlaced;
     std::vector<png_color> palette;
 };
 
 // `rows`: packed scanlines as PNG stores them (16-bit samples big endian).
 void writePng(const fs::path& path, const PngSpec& spec, const Bytes& rows) {
+    const size_t stride = rows.size() / size_t(spec.height);
+    std::vector<png_bytep> pointers;  // before setjmp: nothing to destroy on libpng's longjmp
+    for (int y = 0; y < spec.height; ++y)
+        pointers.push_back(const_cast<png_bytep>(rows.data() + size_t(y) * stride));
     FILE* file = std::fopen(path.c_str(), "wb");
     ASSERT_NE(file, nullptr);
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
@@ -74,10 +82,6 @@ void writePng(const fs::path& path, const PngSpec& spec, const Bytes& rows) {
     if (!spec.palette.empty())
         png_set_PLTE(png, info, spec.palette.data(), int(spec.palette.size()));
     png_write_info(png, info);
-    const size_t stride = rows.size() / size_t(spec.height);
-    std::vector<png_bytep> pointers;
-    for (int y = 0; y < spec.height; ++y)
-        pointers.push_back(const_cast<png_bytep>(rows.data() + size_t(y) * stride));
     png_write_image(png, pointers.data());
     png_write_end(png, nullptr);
     png_destroy_write_struct(&png, &info);
@@ -159,10 +163,12 @@ Bytes pngClaiming(uint32_t width, uint32_t height) {
     return png;
 }
 
+// Where `what` starts in `bytes`; 0 (after a test failure) if it is absent, so edits stay in bounds.
 size_t find(const Bytes& bytes, std::string_view what) {
-    auto it = std::search(bytes.begin(), bytes.end(), what.begin(), what.end());
+    auto it = std::search(bytes.begin(), bytes.end(), what.begin(), what.end(),
+                          [](unsigned char a, char b) { return a == static_cast<unsigned char>(b); });
     EXPECT_NE(it, bytes.end()) << what;
-    return size_t(it - bytes.begin());
+    return it == bytes.end() ? 0 : size_t(it - bytes.begin());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -616,6 +622,20 @@ const Hostile kHostile[] = {
     {"jpeg_garbage_after_soi",
      [](IoTest& t) { return t.withBytes("bad.jpg", {0xff, 0xd8, 0xff, 0xe0, 0, 2, 1, 2}); },
      ErrorKind::InvalidInput, {"bad.jpg", "corrupt JPEG"}},
+    {"jpeg_12_bit",
+     [](IoTest& t) {
+         Bytes jpeg = readBytes(sourceFile("data/finland-map-600.jpg"));
+         jpeg[find(jpeg, std::string_view("\xff\xc0", 2)) + 4] = 12;  // frame precision
+         return t.withBytes("deep.jpg", jpeg);
+     },
+     ErrorKind::Unsupported, {"deep.jpg", "12-bit JPEG not supported"}},
+    {"jpeg_arithmetic_coded",
+     [](IoTest& t) {
+         Bytes jpeg = readBytes(sourceFile("data/finland-map-600.jpg"));
+         jpeg[find(jpeg, std::string_view("\xff\xc0", 2)) + 1] = 0xc9;
+         return t.withBytes("arith.jpg", jpeg);
+     },
+     ErrorKind::Unsupported, {"arith.jpg", "JPEG variant not supported", "0xc9"}},
     {"truncated_exr",
      [](IoTest& t) {
          const Bytes exr = readBytes(exrFile(t));
@@ -637,7 +657,8 @@ const Hostile kHostile[] = {
          return t.withBytes("wide.exr", exr);
      },
      ErrorKind::InvalidInput, {"wide.exr", "65536"}},
-    {"pfm_bad_header", [](IoTest& t) { return t.withBytes("bad.pfm", {'P', 'f', '\n', 'x', 'y', '\n'}); },
+    {"pfm_bad_header",
+     [](IoTest& t) { return t.withBytes("bad.pfm", {'P', 'f', '\n', 'x', 'y', '\n'}); },
      ErrorKind::InvalidInput, {"bad.pfm", "bad PFM header"}},
     {"pfm_zero_scale",
      [](IoTest& t) {

@@ -5,6 +5,7 @@
 #include <relief/gl/program.h>
 #include <relief/techniques/registry.h>
 
+#include <cstdlib>
 #include <thread>
 
 namespace relief {
@@ -73,6 +74,21 @@ TEST(GlContext, ConcurrentBatchesAgreeWithOneBatch) {
         hits += whole[k].hit;
     }
     EXPECT_GT(hits, 100);
+}
+
+// With every platform excluded, the error lists each one and says no display was found.
+TEST(GlContext, FailureNamesEveryPlatformTried) {
+    const char* old = std::getenv("RELIEF_EGL_PLATFORM");
+    const std::string saved = old ? old : "";
+    ::setenv("RELIEF_EGL_PLATFORM", "none", 1);
+    auto context = gl::EglContext::create();
+    if (old) ::setenv("RELIEF_EGL_PLATFORM", saved.c_str(), 1);
+    else ::unsetenv("RELIEF_EGL_PLATFORM");
+    ASSERT_FALSE(context);
+    EXPECT_EQ(context.error().kind, ErrorKind::Unsupported);
+    const std::string& message = context.error().message;
+    for (const char* platform : {"surfaceless: skipped", "device: skipped", "default: skipped"})
+        EXPECT_NE(message.find(platform), std::string::npos) << message;
 }
 
 TEST(GlContext, TechniqueWithoutGlslIsAClearError) {

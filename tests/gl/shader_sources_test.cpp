@@ -67,7 +67,7 @@ TEST(GlShaders, CompileErrorsNameTheFile) {
     const std::string& message = program.error().message;
     EXPECT_NE(message.find("'broken'"), std::string::npos) << message;
     EXPECT_NE(message.find("undeclared"), std::string::npos) << message;
-    EXPECT_NE(message.find("<inline text>:2(15)"), std::string::npos) << message;
+    EXPECT_NE(message.find("<inline text>:2"), std::string::npos) << message;
     EXPECT_NE(message.find("1 = <inline text>"), std::string::npos) << message;
     std::printf("%s\n", message.c_str());
 

@@ -1,6 +1,7 @@
 // relief render HEIGHTFIELD -t TECH[,TECH...|all] [view, light, output options]
 #include <relief/cli/common.h>
 #include <relief/core/parallel.h>
+#include <relief/curves/curves_command.h>
 #include <relief/io/image_write.h>
 #include <relief/render/compare.h>
 #include <relief/render/renderer.h>
@@ -30,6 +31,10 @@ struct RenderOptions {
     std::string format = "text";
     bool deterministic = false;
     int threads = 0;
+    std::string baseSurface = "plane";  // visibility curves (issue 8): plane or sphere
+    double radius = 0.0;
+    double epsilon = 0.05;
+    double samples = 2.0;
 };
 
 struct TechniqueRun {
@@ -137,8 +142,42 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     return orFail(loadColorImage(path));
 }
 
+// `-t curves` and `--surface sphere` go to the visibility-curve renderer (curves/curves_command.h).
+void runCurvesRender(const RenderOptions& o) {
+    if (o.output.empty() && o.outDir.empty())
+        throw CommandFailed{{ErrorKind::BadArgument, "say where to write: -o FILE.png or --out-dir DIR"}};
+    if (!o.outDir.empty()) std::filesystem::create_directories(o.outDir);
+    curves::CurvesRenderRequest r;
+    const ivec2 size = orFail(parseImageSize(o.size));
+    r.surface = orFail(makeSurface(o.surface, orFail(loadHeightfield(o.surface))));
+    r.base = o.baseSurface == "sphere" ? curves::BaseSurface::Sphere : curves::BaseSurface::Plane;
+    r.radius = o.radius;
+    r.technique = o.technique.name;
+    r.view = o.view;
+    r.width = size.x;
+    r.height = size.y;
+    r.shading.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
+    const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
+    const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
+    r.shading.color = color ? &*color : nullptr;
+    r.shading.normalMap = normals ? &*normals : nullptr;
+    r.options.samplesPerPixel = o.samples;
+    r.options.step.epsilon = o.epsilon;
+    if (o.technique.maxSteps) r.options.step.maxEvaluations = *o.technique.maxSteps;
+    r.sourceName = o.surface.source;
+    r.output = o.output;
+    r.outDir = o.outDir;
+    r.stepsOut = o.stepsOut;
+    r.errorOut = o.errorOut;
+    r.json = o.format == "json";
+    r.deterministic = o.deterministic;
+    if (o.shadows) throw CommandFailed{{ErrorKind::Unsupported, "curves: --shadows is not supported"}};
+    std::cout << orFail(curves::runCurvesRender(r));
+}
+
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
+    if (o.technique.name == "curves" || o.baseSurface == "sphere") return runCurvesRender(o);
     const std::vector<std::string> names = techniqueList(o.technique.name);
     const bool many = names.size() > 1;
     if (many && o.outDir.empty())
@@ -214,6 +253,14 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--error-out", o->errorOut, "|t - t_exact| heatmap PNG (single technique)");
     cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the summary");
+    cmd->add_option("--surface", o->baseSurface, "base surface (sphere: -t curves or exact)")
+        ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
+    cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
+        ->check(CLI::Range(0.0, 1e7));
+    cmd->add_option("--epsilon", o->epsilon, "curves: convergence threshold, fraction of the ray spacing")
+        ->check(CLI::Range(1e-9, 10.0))->capture_default_str();
+    cmd->add_option("--samples", o->samples, "curves: samples per pixel")
+        ->check(CLI::Range(0.25, 256.0))->capture_default_str();
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runRender(*o); });
 }

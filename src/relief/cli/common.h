@@ -73,5 +73,6 @@ void addTraceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addHelpCommand(CLI::App& app);
 void addBakeCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
 
 }  // namespace relief::cli

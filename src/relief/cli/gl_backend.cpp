@@ -1,11 +1,13 @@
 #include <relief/cli/common.h>
+#include <relief/gl/gl_tracer.h>
 
 namespace relief::cli {
 
 Result<std::unique_ptr<Tracer>> createGlBackendTracer(const TechniqueInfo& info,
-                                                      const TechniqueInput&) {
-    return makeError(ErrorKind::Unsupported, "--backend gl: this build has no GL backend ({})",
-                     info.name);
+                                                      const TechniqueInput& input) {
+    if (info.glsl.empty())
+        return makeError(ErrorKind::Unsupported, "--backend gl: '{}' has no GLSL tracer yet", info.name);
+    return createGlTracer(info, input);
 }
 
 }  // namespace relief::cli

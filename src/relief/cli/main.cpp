@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     addTraceCommand(app);
     addRenderCommand(app);
     addBakeCommand(app);
+    addBenchCommand(app);
     addHelpCommand(app);
     try {
         app.parse(argc, argv);

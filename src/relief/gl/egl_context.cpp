@@ -143,26 +143,43 @@ Result<std::shared_ptr<EglContext>> EglContext::create() {
     std::string platform;
     bool softwareDevice = false;
 
+    // RELIEF_EGL_PLATFORM=surfaceless|device|default tries only that platform (debugging).
+    const char* only = std::getenv("RELIEF_EGL_PLATFORM");
+    auto wanted = [&](std::string_view platformName) {
+        if (!only || !*only || platformName == only) return true;
+        tried.push_back(fmt::format("{}: skipped (RELIEF_EGL_PLATFORM={})", platformName, only));
+        return false;
+    };
+
     // 1. Mesa's surfaceless platform.
-    if (!platformBase || !hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
-        tried.push_back("surfaceless: EGL_MESA_platform_surfaceless not offered");
-    } else {
-        Attempt a = tryDisplay(
-            eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
-        if (a.failure.empty()) {
-            won = a;
-            platform = "EGL_PLATFORM_SURFACELESS_MESA";
+    if (wanted("surfaceless")) {
+        if (!platformBase || !hasExtension(clientExtensions, "EGL_MESA_platform_surfaceless")) {
+            tried.push_back("surfaceless: EGL_MESA_platform_surfaceless not offered");
         } else {
-            tried.push_back("surfaceless: " + a.failure);
-            anyDisplay = anyDisplay || a.initialized;
+            Attempt a = tryDisplay(eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
+                                                            EGL_DEFAULT_DISPLAY, nullptr));
+            if (a.failure.empty()) {
+                won = a;
+                platform = "EGL_PLATFORM_SURFACELESS_MESA";
+            } else {
+                tried.push_back("surfaceless: " + a.failure);
+                anyDisplay = anyDisplay || a.initialized;
+            }
         }
     }
 
     // 2. The device platform, one display per device (headless NVIDIA).
-    if (!won.context) {
-        if (!platformBase || !hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+    if (!won.context && wanted("device")) {
+        // EGL_EXT_device_base is device_enumeration + device_query (NVIDIA offers only it).
+        const bool enumeration =
+            hasExtension(clientExtensions, "EGL_EXT_device_enumeration") ||
+            hasExtension(clientExtensions, "EGL_EXT_device_base");
+        if (!platformBase || !enumeration ||
             !hasExtension(clientExtensions, "EGL_EXT_platform_device")) {
-            tried.push_back("device: EGL_EXT_device_enumeration/EGL_EXT_platform_device not offered");
+            tried.push_back(fmt::format("device: EGL_EXT_device_enumeration (or _base) and "
+                                        "EGL_EXT_platform_device not both offered (client "
+                                        "extensions: {})",
+                                        clientExtensions ? clientExtensions : "none"));
         } else {
             EGLDeviceEXT devices[kMaxDevices];
             EGLint count = 0;
@@ -175,8 +192,8 @@ Result<std::shared_ptr<EglContext>> EglContext::create() {
                 const char* deviceExtensions = eglQueryDeviceStringEXT(devices[k], EGL_EXTENSIONS);
                 std::string name = fmt::format("device {}", k);
                 if (hasExtension(deviceExtensions, "EGL_EXT_device_drm")) {
-                    if (const char* file = eglQueryDeviceStringEXT(devices[k], EGL_DRM_DEVICE_FILE_EXT))
-                        name += fmt::format(" ({})", file);
+                    const char* file = eglQueryDeviceStringEXT(devices[k], EGL_DRM_DEVICE_FILE_EXT);
+                    if (file) name += fmt::format(" ({})", file);
                 }
                 Attempt a = tryDisplay(
                     eglGetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, devices[k], nullptr));
@@ -193,7 +210,7 @@ Result<std::shared_ptr<EglContext>> EglContext::create() {
     }
 
     // 3. Whatever the default display is.
-    if (!won.context) {
+    if (!won.context && wanted("default")) {
         Attempt a = tryDisplay(eglGetDisplay(EGL_DEFAULT_DISPLAY));
         if (a.failure.empty()) {
             won = a;
@@ -234,15 +251,16 @@ Result<std::shared_ptr<EglContext>> EglContext::shared() {
     return **cached;
 }
 
+// The display is not terminated: EGL hands every caller the same display for a platform, and
+// terminating it would end other contexts on it.
 EglContext::~EglContext() {
     if (m_context) eglDestroyContext(m_display, m_context);
-    if (m_display) eglTerminate(m_display);
 }
 
 EglContext::Scope::Scope(const EglContext& context) : m_context(context), m_lock(context.m_mutex) {
     if (m_context.m_depth++ == 0) {
-        const bool ok =
-            eglMakeCurrent(m_context.m_display, EGL_NO_SURFACE, EGL_NO_SURFACE, m_context.m_context);
+        const bool ok = eglMakeCurrent(m_context.m_display, EGL_NO_SURFACE, EGL_NO_SURFACE,
+                                       m_context.m_context);
         RELIEF_CHECK(ok);
         m_madeCurrent = true;
     }

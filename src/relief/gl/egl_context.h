@@ -4,7 +4,8 @@
 // Platforms are tried in order: Mesa's surfaceless platform (llvmpipe or a Mesa GPU driver, no
 // window system), then the EGL device platform (eglQueryDevicesEXT, one display per device: a
 // headless NVIDIA GPU), then the default display. The first that yields a GL 4.5 core context
-// wins; if none does, the error names every attempt with its EGL error code.
+// wins; if none does, the error names every attempt with its EGL error code. For debugging,
+// RELIEF_EGL_PLATFORM=surfaceless|device|default restricts the search to one platform.
 //
 // A GL context is current in one thread at a time, and tracers are called from worker threads,
 // so every use goes through a Scope: it locks the context's mutex, makes the context current on
@@ -45,9 +46,11 @@ public:
         bool m_madeCurrent = false;
     };
 
+    // A new context, not the shared one (tests of the platform search).
+    static Result<std::shared_ptr<EglContext>> create();
+
 private:
     EglContext() = default;
-    static Result<std::shared_ptr<EglContext>> create();
 
     void* m_display = nullptr;  // EGLDisplay
     void* m_context = nullptr;  // EGLContext

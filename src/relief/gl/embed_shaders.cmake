@@ -29,7 +29,8 @@ foreach(path IN LISTS common_files technique_files)
     string(APPEND text "    {\"${key}\", R\"${delimiter}(${content})${delimiter}\"},\n")
     math(EXPR count "${count} + 1")
 endforeach()
-string(APPEND text "};\nconst size_t kEmbeddedShaderCount = ${count};\n\n}  // namespace relief::gl\n")
+string(APPEND text "};\nconst size_t kEmbeddedShaderCount = ${count};\n\n")
+string(APPEND text "}  // namespace relief::gl\n")
 
 # Only touch the output when it changes, so unrelated builds do not recompile it.
 set(old "")

@@ -76,7 +76,8 @@ void uploadBlock(GlBuffer& buffer, const Block& block) {
 
 // Compiles and links a compute program from `files` (paths as in shaderSource), after the
 // generated interface for `technique` (its kParam<Name> constants), or none.
-Result<GlProgram> computeProgram(std::string_view label, std::initializer_list<std::string_view> files,
+Result<GlProgram> computeProgram(std::string_view label,
+                                 std::initializer_list<std::string_view> files,
                                  const TechniqueInfo* technique = nullptr);
 
 // Same, for a vertex + fragment pair.

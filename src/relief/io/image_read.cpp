@@ -38,7 +38,8 @@ Result<std::unique_ptr<HeightDecoder>> makeHeightDecoder(FileReader& file,
                                                          const LoadOptions& options) {
     if (options.raw) return makeRawHeightDecoder(file, *options.raw);
     switch (detectFormat(file.head())) {
-        case FileFormat::Png: return makePngHeightDecoder(file, options.channel, options.maxSamples);
+        case FileFormat::Png:
+            return makePngHeightDecoder(file, options.channel, options.maxSamples);
         case FileFormat::Jpeg: return makeJpegHeightDecoder(file, options.channel);
         case FileFormat::Exr: return makeExrHeightDecoder(file, options.channel);
         case FileFormat::Pfm: return makePfmHeightDecoder(file, options.channel);

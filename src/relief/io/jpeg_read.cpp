@@ -27,6 +27,24 @@ size_t skipEntropyData(std::span<const unsigned char> bytes, size_t pos) {
     return bytes.size();
 }
 
+// stb_image decodes 8-bit Huffman-coded frames (SOF0-2); name the other variants rather than
+// let them fail as "corrupt".
+Status checkFrame(const std::string& path, unsigned char marker,
+                  std::span<const unsigned char> segment) {
+    const bool isFrame = marker >= 0xc0 && marker <= 0xcf && marker != 0xc4 && marker != 0xc8 &&
+                         marker != 0xcc;  // DHT, JPG and DAC share the range
+    if (!isFrame) return {};
+    if (marker > 0xc2)
+        return makeError(ErrorKind::Unsupported,
+                         "{}: JPEG variant not supported (frame type 0x{:x}: lossless, "
+                         "hierarchical or arithmetic-coded)",
+                         path, marker);
+    if (!segment.empty() && segment[0] != 8)
+        return makeError(ErrorKind::Unsupported, "{}: {}-bit JPEG not supported (8-bit only)",
+                         path, segment[0]);
+    return {};
+}
+
 // Walks the segments from SOI to EOI; segment lengths are trusted only as far as the file goes.
 Status checkJpegStructure(const std::string& path, std::span<const unsigned char> bytes) {
     auto truncated = [&] {
@@ -49,8 +67,10 @@ Status checkJpegStructure(const std::string& path, std::span<const unsigned char
         if (length < 2)
             return makeError(ErrorKind::InvalidInput, "{}: corrupt JPEG: bad segment length",
                              path);
+        const size_t segment = pos + 2;
         pos += length;
         if (pos > bytes.size()) return truncated();
+        if (Status s = checkFrame(path, marker, bytes.subspan(segment, length - 2)); !s) return s;
         if (marker == 0xda) pos = skipEntropyData(bytes, pos);  // SOS: scan data follows
     }
 }

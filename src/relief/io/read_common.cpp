@@ -34,7 +34,9 @@ bool FileReader::read(void* data, size_t bytes) {
     return std::fread(data, 1, bytes, m_file.get()) == bytes;
 }
 
-bool FileReader::seek(int64_t offset) { return ::fseeko(m_file.get(), off_t(offset), SEEK_SET) == 0; }
+bool FileReader::seek(int64_t offset) {
+    return ::fseeko(m_file.get(), off_t(offset), SEEK_SET) == 0;
+}
 
 Result<std::vector<unsigned char>> FileReader::readAll() {
     std::vector<unsigned char> bytes(static_cast<size_t>(m_size));
@@ -69,7 +71,7 @@ size_t scalarBytes(Scalar scalar) {
 uint32_t loadUnsigned(const unsigned char* p, size_t bytes, std::endian endian) {
     uint32_t value = 0;
     for (size_t k = 0; k < bytes; ++k)
-        value |= uint32_t(p[endian == std::endian::big ? k : bytes - 1 - k]) << (8 * (bytes - 1 - k));
+        value = value << 8 | p[endian == std::endian::big ? k : bytes - 1 - k];
     return value;
 }
 
@@ -133,8 +135,8 @@ Status readRows(FileReader& file, const PixelLayout& layout, ChannelSelect selec
     std::vector<unsigned char> row(rowBytes(layout, width));
     for (int64_t r = 0; r < rows; ++r) {
         if (!file.read(row.data(), row.size()))
-            return makeError(ErrorKind::InvalidInput, "{}: truncated: the file ends at row {} of {}",
-                             file.path(), r, rows);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: truncated: the file ends at row {} of {}", file.path(), r, rows);
         const int64_t y = bottomUp ? rows - 1 - r : r;
         convertRow(row.data(), layout, width, select, out.data() + y * width);
     }

@@ -44,8 +44,6 @@ vec3 heightTint(float fraction) {
                            : glm::mix(mid, high, (fraction - 0.6f) / 0.4f);
 }
 
-Rgb8 toRgb8(const vec3& c) { return Rgb8(glm::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
-
 class TileShader {
 public:
     TileShader(const Surface& s, const Tracer& tracer, const Shading& shading)
@@ -66,11 +64,10 @@ public:
         for (size_t k = 0; k < hits.size(); ++k) {
             vec3 c = m_shading.background;
             if (hits[k].hit) {
-                const float lambert = std::max(0.0f, glm::dot(normals[k], m_shading.towardsLight));
-                bool lit = lambert > 0.0f;
+                bool lit = glm::dot(normals[k], m_shading.towardsLight) > 0.0f;
                 if (m_shading.shadows && lit) lit = !m_shadowHits[nextShadow++].hit;
-                c = albedo(hits[k].position) *
-                    (m_shading.ambient + (1.0f - m_shading.ambient) * (lit ? lambert : 0.0f));
+                c = shadeLambert(m_shading, shadeAlbedo(m_surface, m_shading, hits[k].position),
+                                 normals[k], lit);
             }
             out.at(pixels[k].x, pixels[k].y) = toRgb8(c);
         }
@@ -78,14 +75,7 @@ public:
 
 private:
     vec3 shadingNormal(const vec3& p) const {
-        const vec3 n = m_surface.normalAt(p);
-        if (!m_shading.normalMap || n.z <= 0.5f) return n;
-        return glm::normalize(sampleTexture(*m_shading.normalMap, m_surface, p) * 2.0f - 1.0f);
-    }
-    vec3 albedo(const vec3& p) const {
-        if (m_shading.color) return sampleTexture(*m_shading.color, m_surface, p);
-        const float depth = std::max(m_surface.depth(), 1e-6f);
-        return heightTint(p.z / depth);
+        return shadeNormal(m_surface, m_shading, p, m_surface.normalAt(p));
     }
     // Starts just above S: the geometric normal is used even with a normal map, so the origin
     // really is above the surface the tracer sees.
@@ -124,6 +114,25 @@ double forEachTile(const Camera& camera, const Tracer& tracer, Image<Hit>& hits,
 }
 
 }  // namespace
+
+Rgb8 toRgb8(const vec3& c) { return Rgb8(glm::clamp(c, 0.0f, 1.0f) * 255.0f + 0.5f); }
+
+vec3 shadeAlbedo(const Surface& s, const Shading& shading, const vec3& texel) {
+    if (shading.color) return sampleTexture(*shading.color, s, texel);
+    const float depth = std::max(s.depth(), 1e-6f);
+    return heightTint(texel.z / depth);
+}
+
+vec3 shadeNormal(const Surface& s, const Shading& shading, const vec3& texel,
+                 const vec3& geometricNormal) {
+    if (!shading.normalMap || geometricNormal.z <= 0.5f) return geometricNormal;
+    return glm::normalize(sampleTexture(*shading.normalMap, s, texel) * 2.0f - 1.0f);
+}
+
+vec3 shadeLambert(const Shading& shading, const vec3& albedo, const vec3& normal, bool lit) {
+    const float lambert = std::max(0.0f, glm::dot(normal, shading.towardsLight));
+    return albedo * (shading.ambient + (1.0f - shading.ambient) * (lit ? lambert : 0.0f));
+}
 
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds) {
     Image<Hit> hits(camera.width(), camera.height());

@@ -29,4 +29,16 @@ RenderResult render(const Surface& surface, const Camera& camera, const Tracer& 
 // Traces the primary rays only (no shading), in tiles, in parallel.
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds = nullptr);
 
+// The shading of one point, shared with the visibility-curve renderer (curves/), which has its
+// own hits and (on the sphere) its own tangent frames. `texel` is the point in texel space: x, y
+// address the colour and normal maps, z/D tints when there is no colour map. Normals passed to
+// shadeNormal are in tangent space (texel space, z up); shadeLambert takes world normals.
+vec3 shadeAlbedo(const Surface& surface, const Shading& shading, const vec3& texel);
+// The normal map's normal on top faces (tangent z > 0.5), the geometric normal elsewhere.
+vec3 shadeNormal(const Surface& surface, const Shading& shading, const vec3& texel,
+                 const vec3& geometricNormal);
+// Ambient + Lambert; `lit` = false when the point is in shadow.
+vec3 shadeLambert(const Shading& shading, const vec3& albedo, const vec3& normal, bool lit);
+Rgb8 toRgb8(const vec3& linear);
+
 }  // namespace relief

@@ -1,11 +1,16 @@
 #include <relief/techniques/registry.h>
 
+#include <relief/curves/curves_tracer.h>
 #include <relief/techniques/exact/exact.h>
+#include <relief/techniques/cone/cone.h>
+#include <relief/techniques/relaxed_cone/relaxed_cone.h>
 #include <relief/techniques/linear/linear.h>
 #include <relief/techniques/parallax/parallax.h>
 #include <relief/techniques/maxmip/maxmip.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
+#include <relief/techniques/safety_cc/safety_cc.h>
+#include <relief/techniques/safety_sd/safety_sd.h>
 
 #include <cmath>
 
@@ -37,6 +42,25 @@ const TechniqueInfo kTechniques[] = {
      .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
      .create = createQuadtreeOriented},
+    {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
+     .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
+     .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
+     .buildMaps = buildConeMaps},
+    {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
+     .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
+     .contract = Contract::Approximate, .params = kRelaxedConeParams,
+     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps},
+    {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
+     .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
+     .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
+     .buildMaps = buildSafetySdMaps},
+    {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
+     .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
+     .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
+     .buildMaps = buildSafetyCcMaps},
+    {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
+     .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
+     .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
 };
 // clang-format on
 

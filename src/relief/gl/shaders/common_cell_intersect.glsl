@@ -4,21 +4,24 @@
 // Smallest t in [ta, tb] where the ray is on or below `plane`, or kInfinity.
 float firstHitOnPlane(CellPlane plane, vec3 origin, vec3 direction, float cellX, float cellY,
                       float ta, float tb) {
-    const float ou = origin.x - cellX, ov = origin.y - cellY;
-    const float above0 =
+    precise float ou = origin.x - cellX, ov = origin.y - cellY;
+    precise float above0 =
         origin.z + ta * direction.z - at(plane, ou + ta * direction.x, ov + ta * direction.y);
     if (above0 <= 0.0) return ta;
-    const float above1 =
+    precise float above1 =
         origin.z + tb * direction.z - at(plane, ou + tb * direction.x, ov + tb * direction.y);
     if (above1 > 0.0) return kInfinity;
-    return ta + (tb - ta) * (above0 / (above0 - above1));
+    precise float t = ta + (tb - ta) * divide(above0, above0 - above1);
+    return t;
 }
 
 // Smallest t in [ta, tb] where the ray is on or below S in cell (ci, cj), or kInfinity.
 float firstHitInCell(CellPlanes planes, Ray ray, int ci, int cj, float ta, float tb) {
     const float cellX = float(ci) + 0.5, cellY = float(cj) + 0.5;
-    const float t0 = firstHitOnPlane(planes.first, ray.origin, ray.direction, cellX, cellY, ta, tb);
+    const float t0 =
+        firstHitOnPlane(planes.first, ray.origin, ray.direction, cellX, cellY, ta, tb);
     if (t0 == ta) return t0;
-    const float t1 = firstHitOnPlane(planes.second, ray.origin, ray.direction, cellX, cellY, ta, tb);
+    const float t1 =
+        firstHitOnPlane(planes.second, ray.origin, ray.direction, cellX, cellY, ta, tb);
     return min(t0, t1);
 }

@@ -17,7 +17,10 @@ struct CellPlane {
     float sx;
     float sy;
 };
-float at(CellPlane plane, float u, float v) { return plane.z0 + plane.sx * u + plane.sy * v; }
+float at(CellPlane plane, float u, float v) {
+    precise float z = plane.z0 + plane.sx * u + plane.sy * v;
+    return z;
+}
 
 // S = max(first, second) over the cell.
 struct CellPlanes {
@@ -53,8 +56,12 @@ bool empty(RayInterval r) { return !(r.tEnter <= r.tExit); }
 // GLSL's % is undefined for negative operands: wrap with non-negative ones only.
 int wrapIndex(int i, int n) { return i >= 0 ? i % n : n - 1 - (-1 - i) % n; }
 
-int wrapColumn(int i) { return edge() == kEdgeClamp ? clamp(i, -1, width()) : wrapIndex(i, width()); }
-int wrapRow(int j) { return edge() == kEdgeClamp ? clamp(j, -1, height()) : wrapIndex(j, height()); }
+int wrapColumn(int i) {
+    return edge() == kEdgeClamp ? clamp(i, -1, width()) : wrapIndex(i, width());
+}
+int wrapRow(int j) {
+    return edge() == kEdgeClamp ? clamp(j, -1, height()) : wrapIndex(j, height());
+}
 int cellColumn(int ci) { return edge() == kEdgeClamp ? ci : wrapColumn(ci); }
 int cellRow(int cj) { return edge() == kEdgeClamp ? cj : wrapRow(cj); }
 int clampCellX(int ci) { return edge() == kEdgeClamp ? clamp(ci, -1, width() - 1) : ci; }
@@ -63,7 +70,9 @@ int clampCellY(int cj) { return edge() == kEdgeClamp ? clamp(cj, -1, height() - 
 int cellOfX(float x) { return clampCellX(int(floor(x - 0.5))); }
 int cellOfY(float y) { return clampCellY(int(floor(y - 0.5))); }
 
-float sampleZ(int i, int j) { return heights[(wrapRow(j) + 1) * (width() + 2) + wrapColumn(i) + 1]; }
+float sampleZ(int i, int j) {
+    return heights[(wrapRow(j) + 1) * (width() + 2) + wrapColumn(i) + 1];
+}
 
 CellCorners cellCorners(int ci, int cj) {
     const int stride = width() + 2;
@@ -80,17 +89,19 @@ float heightAt(float x, float y) {
 
 float bilinearZ(float x, float y) {
     const int ci = cellOfX(x), cj = cellOfY(y);
-    const float u = clamp(x - (float(ci) + 0.5), 0.0, 1.0);
-    const float v = clamp(y - (float(cj) + 0.5), 0.0, 1.0);
+    precise float u = clamp(x - (float(ci) + 0.5), 0.0, 1.0);
+    precise float v = clamp(y - (float(cj) + 0.5), 0.0, 1.0);
     const CellCorners c = cellCorners(ci, cj);
-    return (1.0 - v) * ((1.0 - u) * c.z00 + u * c.z10) + v * ((1.0 - u) * c.z01 + u * c.z11);
+    precise float z =
+        (1.0 - v) * ((1.0 - u) * c.z00 + u * c.z10) + v * ((1.0 - u) * c.z01 + u * c.z11);
+    return z;
 }
 
 // Intersects [lo, hi] with the slab [a, b] along one axis.
 bool clipSlab(float origin, float direction, float a, float b, inout float lo, inout float hi) {
     if (direction == 0.0) return origin >= a && origin <= b;
-    const float inv = 1.0 / direction;
-    float t0 = (a - origin) * inv, t1 = (b - origin) * inv;
+    precise float inv = divide(1.0, direction);
+    precise float t0 = (a - origin) * inv, t1 = (b - origin) * inv;
     if (t0 > t1) {
         const float swap = t0;
         t0 = t1;
@@ -110,12 +121,14 @@ RayInterval clip(Ray ray) {
         inside = inside && clipSlab(o.x, d.x, 0.0, float(width()), r.tEnter, r.tExit) &&
                  clipSlab(o.y, d.y, 0.0, float(height()), r.tEnter, r.tExit);
     } else {
-        const float horizontal = sqrt(d.x * d.x + d.y * d.y);
-        const float travel = kRepeatTravelFactor * float(max(width(), height()));
-        if (horizontal > 0.0) r.tExit = min(r.tExit, travel / horizontal);
+        precise float horizontal = squareRoot(d.x * d.x + d.y * d.y);
+        precise float travel = kRepeatTravelFactor * float(max(width(), height()));
+        precise float tTravel = divide(travel, horizontal);
+        if (horizontal > 0.0) r.tExit = min(r.tExit, tTravel);
     }
     // Above the highest sample and rising: nothing can be hit.
-    if (d.z > 0.0) r.tExit = min(r.tExit, max(r.tEnter, (maxZ() - o.z) / d.z));
+    precise float tTop = divide(maxZ() - o.z, d.z);
+    if (d.z > 0.0) r.tExit = min(r.tExit, max(r.tEnter, tTop));
     if (!inside) return RayInterval(0.0, -1.0);
     return r;
 }

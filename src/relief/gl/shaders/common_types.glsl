@@ -4,6 +4,32 @@
 
 const float kInfinity = uintBitsToFloat(0x7F800000u);
 
+// The GPU must round like the C++ (compiled without contraction, IEEE division and square root):
+// rays that graze S where it lies in a face of the box (a floor of zeros) hit or miss by that
+// rounding. Hence `precise` throughout the mirrored arithmetic (no fused multiply-adds, no
+// reassociation), and divide() / squareRoot() for every division and root.
+
+// a / b rounded as IEEE float division rounds it. GLSL allows 2.5 ulp (NVIDIA multiplies by an
+// approximate reciprocal); a double quotient rounded to float is the correctly rounded float
+// quotient (53 ≥ 2·24 + 2 bits, so the double rounding is innocuous).
+float divide(float a, float b) {
+    precise double q = double(a) / double(b);
+    return float(q);
+}
+
+// sqrt(x) rounded as IEEE float sqrt rounds it (GLSL's sqrt is an approximation too).
+float squareRoot(float x) {
+    precise double r = sqrt(double(x));
+    return float(r);
+}
+
+// glm::normalize: v · (1 / sqrt((x² + y²) + z²)).
+vec3 normalizeLikeGlm(vec3 v) {
+    precise float lengthSquared = (v.x * v.x + v.y * v.y) + v.z * v.z;
+    precise vec3 unit = v * divide(1.0, squareRoot(lengthSquared));
+    return unit;
+}
+
 // o + t·d, d normalized, t in [0, tMax].
 struct Ray {
     vec3 origin;
@@ -11,7 +37,10 @@ struct Ray {
     float tMax;
 };
 
-vec3 at(Ray ray, float t) { return ray.origin + t * ray.direction; }
+vec3 at(Ray ray, float t) {
+    precise vec3 p = ray.origin + t * ray.direction;
+    return p;
+}
 
 struct Hit {
     bool hit;

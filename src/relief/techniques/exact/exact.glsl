@@ -12,14 +12,16 @@ Hit trace(Ray ray) {
     int ci = cellOfX(entry.x), cj = cellOfY(entry.y);
     const int stepX = d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0);
     const int stepY = d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0);
-    const float invX = 1.0 / d.x, invY = 1.0 / d.y;
+    const float invX = divide(1.0, d.x), invY = divide(1.0, d.y);
     const bool clampEdges = edge() == kEdgeClamp;  // `clamp` in C++; a built-in name in GLSL
     const int cellCap = 8 + 2 * int(kRepeatTravelFactor + 1.0) * (width() + height());
     float ta = span.tEnter;
     for (int guard = 0; guard < cellCap; ++guard) {
         // Boundaries from the cell index each time: no drift from accumulated increments.
-        const float tx = stepX == 0 ? kInfinity : (float(ci) + (stepX > 0 ? 1.5 : 0.5) - o.x) * invX;
-        const float ty = stepY == 0 ? kInfinity : (float(cj) + (stepY > 0 ? 1.5 : 0.5) - o.y) * invY;
+        precise float tx =
+            stepX == 0 ? kInfinity : (float(ci) + (stepX > 0 ? 1.5 : 0.5) - o.x) * invX;
+        precise float ty =
+            stepY == 0 ? kInfinity : (float(cj) + (stepY > 0 ? 1.5 : 0.5) - o.y) * invY;
         const float tb = max(ta, min(min(tx, ty), span.tExit));
         ++hit.steps;
         hit.fetches += 4;
@@ -34,8 +36,8 @@ Hit trace(Ray ray) {
             // Leaving through the bottom face means reaching z = 0 ≤ S: S is there. Where samples
             // are 0 the floor lies in that face and rounding can leave the cell test a hair
             // above it at tExit, so the test alone misses such hits.
-            const float zExit = o.z + span.tExit * d.z;
-            const float zRounding = 4.0 * kFloatEpsilon * (abs(o.z) + depth());
+            precise float zExit = o.z + span.tExit * d.z;
+            precise float zRounding = 4.0 * kFloatEpsilon * (abs(o.z) + depth());
             if (d.z < 0.0 && zExit <= zRounding) {
                 hit.hit = true;
                 hit.t = span.tExit;

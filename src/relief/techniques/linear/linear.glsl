@@ -16,14 +16,14 @@ Hit trace(Ray ray) {
     const RayInterval span = clip(ray);
     if (empty(span)) return hit;
     const int n = linearSteps();
-    const float dt = (span.tExit - span.tEnter) / float(n);
+    precise float dt = divide(span.tExit - span.tEnter, float(n));
     float tAbove = span.tEnter, tBelow = kInfinity;
     if (below(ray, span.tEnter, hit)) {
         tBelow = span.tEnter;
     } else {
         for (int k = 1; k <= n; ++k) {
             ++hit.steps;
-            const float t = k == n ? span.tExit : span.tEnter + float(k) * dt;
+            precise float t = k == n ? span.tExit : span.tEnter + float(k) * dt;
             if (below(ray, t, hit)) {
                 tBelow = t;
                 break;
@@ -33,7 +33,7 @@ Hit trace(Ray ray) {
         if (tBelow == kInfinity) return hit;
         for (int k = 0; k < binarySteps(); ++k) {
             ++hit.steps;
-            const float mid = 0.5 * (tAbove + tBelow);
+            precise float mid = 0.5 * (tAbove + tBelow);
             if (below(ray, mid, hit)) tBelow = mid; else tAbove = mid;
         }
     }

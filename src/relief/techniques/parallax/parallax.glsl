@@ -9,7 +9,7 @@ Hit trace(Ray ray) {
     hit.steps = 1;
     hit.fetches = 1;
     const float depthBelowEntry = max(0.0, entry.z - bilinearZ(entry.x, entry.y));
-    const float t = span.tEnter + depthBelowEntry;
+    precise float t = span.tEnter + depthBelowEntry;
     if (t > span.tExit) return hit;
     hit.hit = true;
     hit.t = t;

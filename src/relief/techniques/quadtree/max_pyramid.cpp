@@ -43,43 +43,46 @@ MaxPyramid::MaxPyramid(const Surface& surface)
 
 MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout)
     : m_layout(layout) {
-    m_values.resize(layout.nodeCount());
+    size_t total = 0;
+    for (int level = 0; level < layout.levels; ++level)
+        total += Index::size(layout.widthAt(level), layout.heightAt(level));
+    m_values.assign(total, 0.0f);
     size_t offset = 0;
     for (int level = 0; level < layout.levels; ++level) {
-        m_levels[size_t(level)] = {m_values.data() + offset, layout.widthAt(level)};
-        offset += size_t(layout.widthAt(level)) * size_t(layout.heightAt(level));
+        m_levels[size_t(level)] = {m_values.data() + offset, Index::of(layout.widthAt(level))};
+        offset += Index::size(layout.widthAt(level), layout.heightAt(level));
     }
     buildFinest(vertices);
     for (int level = 1; level < layout.levels; ++level) buildCoarser(level);
 }
 
 void MaxPyramid::buildFinest(const VertexGrid& vertices) {
-    const int w = m_layout.cellsX;
-    float* out = m_levels[0].values;
+    const Level& out = m_levels[0];
     parallelRanges(m_layout.cellsY, 16, [&](int64_t begin, int64_t end) {
         for (int l = int(begin); l < int(end); ++l) {
             const float* v0 = vertices.row(l);
             const float* v1 = vertices.row(l + 1);
-            float* o = out + size_t(l) * size_t(w);
-            for (int k = 0; k < w; ++k)
-                o[k] = std::max(std::max(v0[k], v0[k + 1]), std::max(v1[k], v1[k + 1]));
+            for (int k = 0; k < m_layout.cellsX; ++k)
+                out.values[out.index(k, l)] =
+                    std::max(std::max(v0[k], v0[k + 1]), std::max(v1[k], v1[k + 1]));
         }
     });
 }
 
 void MaxPyramid::buildCoarser(int level) {
     const Level& fine = m_levels[size_t(level - 1)];
-    const int fineW = fine.width, fineH = m_layout.heightAt(level - 1);
-    const int w = m_layout.widthAt(level);
-    float* out = m_levels[size_t(level)].values;
+    const Level& out = m_levels[size_t(level)];
+    const int fineW = m_layout.widthAt(level - 1), fineH = m_layout.heightAt(level - 1);
     parallelRanges(m_layout.heightAt(level), 8, [&](int64_t begin, int64_t end) {
         for (int y = int(begin); y < int(end); ++y) {
-            const float* r0 = fine.values + size_t(2 * y) * size_t(fineW);
-            const float* r1 = 2 * y + 1 < fineH ? r0 + fineW : r0;  // odd height: last row alone
-            float* o = out + size_t(y) * size_t(w);
-            for (int x = 0; x < w; ++x) {
+            const int y0 = 2 * y, y1 = std::min(2 * y + 1, fineH - 1);  // odd sizes: one child
+            for (int x = 0; x < m_layout.widthAt(level); ++x) {
                 const int x0 = 2 * x, x1 = std::min(2 * x + 1, fineW - 1);
-                o[x] = std::max(std::max(r0[x0], r0[x1]), std::max(r1[x0], r1[x1]));
+                out.values[out.index(x, y)] =
+                    std::max(std::max(fine.values[fine.index(x0, y0)],
+                                      fine.values[fine.index(x1, y0)]),
+                             std::max(fine.values[fine.index(x0, y1)],
+                                      fine.values[fine.index(x1, y1)]));
             }
         }
     });

@@ -40,6 +40,7 @@ struct WalkRay {
     float invX, invY, invZ;
     int stepX, stepY;
     float tEnter, tExit;
+    float edgeX, edgeY;  // o.x - 0.5, o.y - 0.5: node sides at cell edges k + 0.5
     // Height tolerance of the bound tests: the float error of the ray's z and of S's planes, so
     // that no node is skipped where the reference's cell test could still report a hit.
     float slack;
@@ -57,12 +58,15 @@ struct WalkCursor {
     int baseX, baseY;
 };
 
-// The node under test: level-0 index range [lo, hi) per axis and the texel position of the
-// lower corner of its nominal 2^L square.
+// The node under test: level-0 index range [lo, hi) per axis, and the cursor's tile base.
 struct NodeBox {
     int level, nx, ny;
     int loX, hiX, loY, hiY;
-    float x0, y0;
+    int baseX, baseY;
+
+    // Texel position of the lower corner of the node's nominal 2^L square.
+    float x0() const { return float(baseX + loX) + 0.5f; }
+    float y0() const { return float(baseY + loY) + 0.5f; }
 };
 
 struct NodeExit {
@@ -84,6 +88,8 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
             d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
             span.tEnter,
             span.tExit,
+            o.x - 0.5f,
+            o.y - 0.5f,
             kWalkSlack * extent,
             s.depth()};
 }
@@ -93,9 +99,15 @@ inline float boundaryT(int edgeCell, float origin, float inverse) {
     return (float(edgeCell) + 0.5f - origin) * inverse;
 }
 
+// floor for |x| < 2^31 (std::floor is a long sequence without SSE4.1).
+inline int floorToInt(float x) {
+    const int i = int(x);
+    return i - int(float(i) > x);
+}
+
 // Level-0 index of coordinate x within [lo, hi), relative to `base` (float error clamped away).
 inline int cellIndexIn(float x, int base, int lo, int hi) {
-    return std::clamp(int(std::floor(x - 0.5f)) - base, lo, hi - 1);
+    return std::clamp(floorToInt(x - 0.5f) - base, lo, hi - 1);
 }
 
 inline int floorMod(int a, int n) {
@@ -128,18 +140,17 @@ inline NodeBox nodeBox(const PyramidLayout& layout, const WalkCursor& c) {
     b.loY = b.ny << c.level;
     b.hiX = std::min(b.loX + (1 << c.level), layout.cellsX);
     b.hiY = std::min(b.loY + (1 << c.level), layout.cellsY);
-    b.x0 = float(c.baseX + b.loX) + 0.5f;
-    b.y0 = float(c.baseY + b.loY) + 0.5f;
+    b.baseX = c.baseX;
+    b.baseY = c.baseY;
     return b;
 }
 
+// Node sides: one subtraction less than boundaryT (the cell test recomputes its own exit).
 inline NodeExit nodeExit(const WalkRay& r, const NodeBox& b, const WalkCursor& c) {
-    const float tx = r.stepX > 0   ? boundaryT(c.baseX + b.hiX, r.o.x, r.invX)
-                     : r.stepX < 0 ? boundaryT(c.baseX + b.loX, r.o.x, r.invX)
-                                   : kInfinity;
-    const float ty = r.stepY > 0   ? boundaryT(c.baseY + b.hiY, r.o.y, r.invY)
-                     : r.stepY < 0 ? boundaryT(c.baseY + b.loY, r.o.y, r.invY)
-                                   : kInfinity;
+    const int edgeX = c.baseX + (r.stepX > 0 ? b.hiX : b.loX);
+    const int edgeY = c.baseY + (r.stepY > 0 ? b.hiY : b.loY);
+    const float tx = r.stepX != 0 ? (float(edgeX) - r.edgeX) * r.invX : kInfinity;
+    const float ty = r.stepY != 0 ? (float(edgeY) - r.edgeY) * r.invY : kInfinity;
     return {tx, ty, std::max(c.t, std::min({tx, ty, r.tExit}))};
 }
 
@@ -152,12 +163,11 @@ inline float enterBelow(float top, const WalkRay& r, float t, float tOut) {
     return r.o.z + t * r.d.z <= top ? t : kInfinity;
 }
 
-// The flat bound of `quadtree` and `maxmip`: the node's maximum.
+// The flat bound of `quadtree` and `maxmip`: the node's maximum (one fetch).
 class MaxBound {
 public:
     explicit MaxBound(const MaxPyramid& pyramid) : m_pyramid(&pyramid) {}
-    float enter(const NodeBox& b, const WalkRay& r, float t, float tOut, Hit& hit) const {
-        ++hit.fetches;
+    float enter(const NodeBox& b, const WalkRay& r, float t, float tOut) const {
         return enterBelow(m_pyramid->at(b.level, b.nx, b.ny) + r.slack, r, t, tOut);
     }
 
@@ -165,11 +175,21 @@ private:
     const MaxPyramid* m_pyramid;
 };
 
-inline bool recordHit(const Ray& ray, float t, Hit& hit) {
+inline Hit makeHit(const Ray& ray, float t, int steps, int fetches) {
+    Hit hit;
     hit.hit = true;
     hit.t = t;
     hit.position = ray.at(t);
-    return true;
+    hit.steps = steps;
+    hit.fetches = fetches;
+    return hit;
+}
+
+inline Hit makeMiss(int steps, int fetches) {
+    Hit hit;
+    hit.steps = steps;
+    hit.fetches = fetches;
+    return hit;
 }
 
 // The reference's rule at the end of the walk (exact.h): leaving through the bottom face means
@@ -182,18 +202,25 @@ inline bool leavesThroughFloor(const WalkRay& r) {
     return r.d.z < 0.0f && zExit <= zRounding;
 }
 
-// The reference's cell test on the cursor's cell, over the ray's whole span in the cell.
-inline bool leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const WalkCursor& c,
-                    float tOut, Hit& hit) {
+// The reference's cell test on the cursor's cell, over the ray's whole span in the cell (its
+// ends computed as the reference computes them): the first hit, or kInfinity.
+inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const WalkCursor& c) {
     const int ci = c.baseX + c.px, cj = c.baseY + c.py;
-    float ta = r.tEnter;
-    if (r.stepX != 0) ta = std::max(ta, boundaryT(r.stepX > 0 ? ci : ci + 1, r.o.x, r.invX));
-    if (r.stepY != 0) ta = std::max(ta, boundaryT(r.stepY > 0 ? cj : cj + 1, r.o.y, r.invY));
-    const float tb = std::max(ta, tOut);
-    hit.fetches += 4;
+    float ta = r.tEnter, tb = r.tExit;
+    if (r.stepX != 0) {
+        ta = std::max(ta, boundaryT(r.stepX > 0 ? ci : ci + 1, r.o.x, r.invX));
+        tb = std::min(tb, boundaryT(r.stepX > 0 ? ci + 1 : ci, r.o.x, r.invX));
+    }
+    if (r.stepY != 0) {
+        ta = std::max(ta, boundaryT(r.stepY > 0 ? cj : cj + 1, r.o.y, r.invY));
+        tb = std::min(tb, boundaryT(r.stepY > 0 ? cj + 1 : cj, r.o.y, r.invY));
+    }
+    tb = std::max(ta, tb);
     const float t = firstHitInCell(s.cellPlanes(ci, cj), ray, ci, cj, ta, tb);
-    return t <= tb && recordHit(ray, t, hit);
+    return t <= tb ? t : kInfinity;
 }
+
+inline constexpr int kLeafFetches = 4;  // the cell's corners
 
 inline void descend(const WalkRay& r, const NodeBox& b, float tIn, WalkCursor& c) {
     if (tIn > c.t) {
@@ -252,40 +279,37 @@ bool advance(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, co
     return true;
 }
 
-// The walk. Bound: `float enter(const NodeBox&, const WalkRay&, float t, float tOut, Hit&)`,
-// the first t in [t, tOut] where the ray may be on or below S in the node (> tOut: none).
+// The walk. Bound: `float enter(const NodeBox&, const WalkRay&, float t, float tOut)`, the
+// first t in [t, tOut] where the ray may be on or below S in the node (> tOut: none), one fetch.
 template <Ascent kAscent, class Bound>
 Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& bound,
                 const Ray& ray, const WalkLimits& limits) {
-    Hit hit;
     const RayInterval span = s.clip(ray);
-    if (span.empty()) return hit;
+    if (span.empty()) return Hit{};
     const WalkRay r = makeWalkRay(ray, span, s);
     WalkCursor c = startCursor(s, layout, r);
+    const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : std::numeric_limits<int>::max();
+    int steps = 0, fetches = 0;
     for (;;) {
-        if (limits.maxSteps > 0 && hit.steps >= limits.maxSteps) {
-            recordHit(ray, c.t, hit);
-            return hit;
-        }
-        ++hit.steps;
+        if (steps == maxSteps) return makeHit(ray, c.t, steps, fetches);
+        ++steps;
+        ++fetches;
         const NodeBox b = nodeBox(layout, c);
         const NodeExit e = nodeExit(r, b, c);
-        const float tIn = bound.enter(b, r, c.t, e.t, hit);
+        const float tIn = bound.enter(b, r, c.t, e.t);
         if (tIn <= e.t) {
             if (c.level > 0) {
                 descend(r, b, tIn, c);
                 continue;
             }
-            if (limits.boxSurface) {
-                recordHit(ray, tIn, hit);
-                return hit;
-            }
-            if (leafHit(s, ray, r, c, e.t, hit)) return hit;
+            if (limits.boxSurface) return makeHit(ray, tIn, steps, fetches);
+            fetches += kLeafFetches;
+            const float tHit = leafHit(s, ray, r, c);
+            if (tHit < kInfinity) return makeHit(ray, tHit, steps, fetches);
         }
-        if (!advance<kAscent>(layout, r, b, e, c)) {
-            if (leavesThroughFloor(r)) recordHit(ray, r.tExit, hit);
-            return hit;
-        }
+        if (!advance<kAscent>(layout, r, b, e, c))
+            return leavesThroughFloor(r) ? makeHit(ray, r.tExit, steps, fetches)
+                                         : makeMiss(steps, fetches);
     }
 }
 

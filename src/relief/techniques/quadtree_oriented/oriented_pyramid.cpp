@@ -51,12 +51,12 @@ OrientedPyramid::OrientedPyramid(const VertexGrid& vertices, const MaxPyramid& m
     : m_layout(maxima.layout()) {
     size_t count = 0;
     for (int level = 1; level < m_layout.levels; ++level)
-        count += size_t(m_layout.widthAt(level)) * size_t(m_layout.heightAt(level));
+        count += Index::size(m_layout.widthAt(level), m_layout.heightAt(level));
     m_nodes.resize(count);
     size_t offset = 0;
     for (int level = 1; level < m_layout.levels; ++level) {
-        m_levels[size_t(level)] = {m_nodes.data() + offset, m_layout.widthAt(level)};
-        offset += size_t(m_layout.widthAt(level)) * size_t(m_layout.heightAt(level));
+        m_levels[size_t(level)] = {m_nodes.data() + offset, Index::of(m_layout.widthAt(level))};
+        offset += Index::size(m_layout.widthAt(level), m_layout.heightAt(level));
         buildLevel(level, vertices, maxima);
     }
 }
@@ -84,7 +84,8 @@ void OrientedPyramid::buildLevel(int level, const VertexGrid& vertices,
                 const double c10 = offset + sx * side, c01 = offset + sy * side;
                 const double margin =
                     kPlaneMargin * (std::abs(offset) + std::abs(c10) + std::abs(c01) + 1.0);
-                m_levels[size_t(level)].nodes[size_t(ny) * size_t(width) + size_t(nx)] = {
+                const Level& out = m_levels[size_t(level)];
+                out.nodes[out.index(nx, ny)] = {
                     roundUp(offset + margin), roundUp(c10 + margin), roundUp(c01 + margin),
                     maxima.at(level, nx, ny)};
             }

@@ -21,22 +21,26 @@ class OrientedPyramid {
 public:
     // Slopes from the child maxima at level L-1 of `maxima`; heights exact over the vertices.
     OrientedPyramid(const VertexGrid& vertices, const MaxPyramid& maxima);
+    OrientedPyramid(OrientedPyramid&&) = default;  // level pointers move with the buffer
+    OrientedPyramid(const OrientedPyramid&) = delete;
+    OrientedPyramid& operator=(const OrientedPyramid&) = delete;
 
     const OrientedNode& at(int level, int nx, int ny) const {
         const Level& l = m_levels[size_t(level)];
-        return l.nodes[size_t(ny) * size_t(l.width) + size_t(nx)];
+        return l.nodes[l.index(nx, ny)];
     }
     size_t bytes() const { return m_nodes.size() * sizeof(OrientedNode); }
 
 private:
+    using Index = TiledIndex<1>;  // 2×2 nodes of 16 bytes per tile
     struct Level {
         OrientedNode* nodes;
-        int width;
+        Index index;
     };
     void buildLevel(int level, const VertexGrid& vertices, const MaxPyramid& maxima);
 
     PyramidLayout m_layout;
-    std::vector<OrientedNode> m_nodes;  // levels 1..top
+    std::vector<OrientedNode> m_nodes;  // levels 1..top, tiled
     std::array<Level, PyramidLayout::kMaxLevels> m_levels{};
 };
 

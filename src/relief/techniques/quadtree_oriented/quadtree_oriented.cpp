@@ -2,11 +2,18 @@
 
 namespace relief {
 
-OrientedMaps::OrientedMaps(const Surface& surface)
-    : OrientedMaps(VertexGrid(surface), PyramidLayout::of(surface)) {}
+namespace {
+OrientedMaps buildMaps(const Surface& surface) {
+    const VertexGrid vertices(surface);
+    return OrientedMaps(vertices,
+                        std::make_shared<const MaxPyramid>(vertices, PyramidLayout::of(surface)));
+}
+}  // namespace
 
-OrientedMaps::OrientedMaps(const VertexGrid& vertices, const PyramidLayout& layout)
-    : maxima(vertices, layout), planes(vertices, maxima) {}
+OrientedMaps::OrientedMaps(const Surface& surface) : OrientedMaps(buildMaps(surface)) {}
+
+OrientedMaps::OrientedMaps(const VertexGrid& vertices, std::shared_ptr<const MaxPyramid> maxima)
+    : maxima(std::move(maxima)), planes(vertices, *this->maxima) {}
 
 Result<std::unique_ptr<Tracer>> createQuadtreeOriented(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"), false};

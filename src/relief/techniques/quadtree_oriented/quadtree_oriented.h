@@ -48,7 +48,7 @@ inline float enterBelowPlane(const OrientedNode& n, const NodeBox& b, const Walk
     const float scale = kInverseSides[size_t(b.level)];
     const float sx = (n.c10 - n.c00) * scale, sy = (n.c01 - n.c00) * scale;
     const vec3 p = r.at(t);
-    const float above = p.z - (n.c00 + sx * (p.x - b.x0) + sy * (p.y - b.y0)) - r.slack;
+    const float above = p.z - (n.c00 + sx * (p.x - b.x0()) + sy * (p.y - b.y0())) - r.slack;
     if (above <= 0.0f) return t;
     const float rate = r.d.z - sx * r.d.x - sy * r.d.y;  // d(above)/dt
     if (rate >= 0.0f) return kInfinity;
@@ -62,8 +62,7 @@ class OrientedBound {
 public:
     OrientedBound(const MaxPyramid& maxima, const OrientedPyramid& planes)
         : m_maxima(&maxima), m_planes(&planes) {}
-    float enter(const NodeBox& b, const WalkRay& r, float t, float tOut, Hit& hit) const {
-        ++hit.fetches;
+    float enter(const NodeBox& b, const WalkRay& r, float t, float tOut) const {
         if (b.level == 0) return enterBelow(m_maxima->at(0, b.nx, b.ny) + r.slack, r, t, tOut);
         const OrientedNode& n = m_planes->at(b.level, b.nx, b.ny);
         const float tIn = enterBelow(n.zmax + r.slack, r, t, tOut);
@@ -76,13 +75,14 @@ private:
     const OrientedPyramid* m_planes;
 };
 
-// The maps of quadtree-oriented: the flat pyramid (level 0 is read) and the oriented one.
+// The maps of quadtree-oriented: the flat pyramid (its level 0 is read; it can be shared with
+// `quadtree` and `maxmip`) and the oriented one.
 struct OrientedMaps {
-    MaxPyramid maxima;
+    std::shared_ptr<const MaxPyramid> maxima;
     OrientedPyramid planes;
 
     explicit OrientedMaps(const Surface& surface);
-    OrientedMaps(const VertexGrid& vertices, const PyramidLayout& layout);
+    OrientedMaps(const VertexGrid& vertices, std::shared_ptr<const MaxPyramid> maxima);
 };
 
 class QuadtreeOrientedTracer {
@@ -92,8 +92,8 @@ public:
         : m_surface(std::move(surface)), m_maps(std::move(maps)), m_limits(limits) {}
 
     Hit trace(const Ray& ray) const {
-        const OrientedBound bound(m_maps->maxima, m_maps->planes);
-        return walkPyramid<Ascent::Parent>(*m_surface, m_maps->maxima.layout(), bound, ray,
+        const OrientedBound bound(*m_maps->maxima, m_maps->planes);
+        return walkPyramid<Ascent::Parent>(*m_surface, m_maps->maxima->layout(), bound, ray,
                                            m_limits);
     }
     const OrientedMaps& maps() const { return *m_maps; }

@@ -21,7 +21,7 @@ float planeAt(const OrientedNode& n, int level, float x0, float y0, float x, flo
 // footprint clipped to the box).
 template <class F>
 void forEachNode(const Surface& s, const OrientedMaps& maps, F f) {
-    const PyramidLayout& layout = maps.maxima.layout();
+    const PyramidLayout& layout = maps.maxima->layout();
     for (int level = 1; level < layout.levels; ++level)
         for (int ny = 0; ny < layout.heightAt(level); ++ny)
             for (int nx = 0; nx < layout.widthAt(level); ++nx) {

@@ -1,0 +1,34 @@
+#pragma once
+// What `relief bench` runs: named presets (one per paper's experiment) and command-line overrides.
+#include <relief/core/error.h>
+#include <relief/core/math.h>
+
+#include <string>
+#include <vector>
+
+namespace relief::cli {
+
+struct BenchConfig {
+    std::vector<std::string> maps;        // gen:NAME:WxH or paths (relative to the repo's root)
+    std::vector<std::string> techniques;  // registry names present in this build
+    std::vector<float> elevations;
+    std::vector<int> caps;  // for techniques with an iteration cap
+    std::vector<std::string> backends{"cpu"};
+    ivec2 size{640, 512};
+    float azimuth = 30.0f;
+    float distance = 1.0f;
+    float depthRatio = 0.1f;
+    int repeats = 3;
+    bool embree = true;
+    std::string paperNotes;  // the paper's published figures, shown beside ours
+};
+
+std::string presetNames();
+// A preset's configuration; techniques it names that this build lacks are dropped.
+Result<BenchConfig> presetConfig(const std::string& name);
+// Comma-separated overrides; empty strings keep the preset's value.
+Status applyOverrides(BenchConfig& config, const std::string& techniques, const std::string& maps,
+                      const std::string& elevations, const std::string& caps,
+                      const std::string& backends, const std::string& size, int repeats);
+
+}  // namespace relief::cli

@@ -1,0 +1,403 @@
+// relief bench: techniques × heightfields × views × iteration caps × backends, with the Embree
+// peer in the same run; writes results.csv, results.json, images, SVG plots and index.html.
+#include <relief/cli/bench_presets.h>
+#include <relief/cli/common.h>
+#include <relief/core/parallel.h>
+#include <relief/core/progress.h>
+#include <relief/embree/embree_scene.h>
+#include <relief/io/image_write.h>
+#include <relief/render/compare.h>
+#include <relief/render/renderer.h>
+#include <relief/report/svg_plot.h>
+#include <relief/techniques/registry.h>
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+
+namespace relief::cli {
+
+namespace {
+
+struct BenchOptions {
+    std::string preset = "default";
+    std::string techniques, maps, elevations, caps, backends, size;
+    std::string outDir = "bench-out";
+    int threads = 0;
+    int repeats = 0;
+    bool noImages = false;
+    bool deterministic = false;
+};
+
+struct Row {
+    std::string technique, contract, map, backend, paramsText;
+    float elevation = 0;
+    int cap = 0;  // 0 = the technique's default / none
+    ErrorStats stats;
+    double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, bytesPerTexel = 0;
+    std::string images;  // file prefix relative to the output folder, empty if none
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <class Fn>
+double bestOf(int repeats, Fn&& fn) {
+    double best = 1e300;
+    for (int r = 0; r < std::max(1, repeats); ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        fn();
+        best = std::min(best, secondsSince(start));
+    }
+    return best;
+}
+
+std::string slug(std::string text) {
+    for (char& c : text)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.') c = '_';
+    return text;
+}
+
+bool hasCap(const TechniqueInfo& info) {
+    for (const ParamSpec& p : info.params)
+        if (p.name == "max-steps" && p.defaultValue != 0) return true;
+    return false;
+}
+
+// A built tracer plus what building it cost, kept per (map, technique, cap).
+struct BuiltTracer {
+    std::unique_ptr<Tracer> tracer;
+    double buildSeconds = 0, bytesPerTexel = 0;
+};
+
+BuiltTracer buildTracer(const TechniqueInfo& info, std::shared_ptr<const Surface> surface, int cap) {
+    std::vector<std::pair<std::string, double>> overrides;
+    if (cap > 0) overrides.emplace_back("max-steps", double(cap));
+    TechniqueInput input{surface, orFail(resolveParams(info, overrides)), nullptr};
+    BuiltTracer built;
+    const auto start = std::chrono::steady_clock::now();
+    std::optional<TechniqueMaps> maps;
+    if (info.buildMaps) {
+        maps = orFail(info.buildMaps(input));
+        size_t bytes = 0;
+        for (const MapArray& a : maps->arrays) bytes += a.data.size() * sizeof(float);
+        built.bytesPerTexel = double(bytes) / double(surface->heightfield().sampleCount());
+        input.maps = &*maps;
+    }
+    built.tracer = orFail(info.create(input));
+    built.buildSeconds = secondsSince(start);
+    return built;
+}
+
+class Bench {
+public:
+    Bench(const BenchOptions& o, BenchConfig config) : m_o(o), m_config(std::move(config)) {}
+
+    void run() {
+        namespace fs = std::filesystem;
+        std::error_code ec;
+        fs::create_directories(fs::path(m_o.outDir) / "images", ec);
+        if (ec) throw CommandFailed{makeError(ErrorKind::Io, "{}: cannot create folder: {}", m_o.outDir, ec.message())};
+        Progress progress("bench", int64_t(m_config.maps.size() * m_config.elevations.size()));
+        for (const std::string& source : m_config.maps) {
+            SurfaceOptions so;
+            so.source = source.rfind("gen:", 0) == 0 || fs::path(source).is_absolute()
+                            ? source : resolveDataPath(source);
+            so.depthRatio = m_config.depthRatio;
+            auto hf = orFail(loadHeightfield(so));
+            auto surface = orFail(makeSurface(so, hf));
+            runMap(mapLabel(source), surface, progress);
+        }
+        writeResults();
+    }
+
+private:
+    static std::string mapLabel(const std::string& source) {
+        return source.rfind("gen:", 0) == 0 ? source.substr(4) : std::filesystem::path(source).stem().string();
+    }
+    static std::string resolveDataPath(const std::string& relative) {
+        for (const std::string& base : {std::string("."), std::string(RELIEF_SOURCE_DIR)})
+            if (std::filesystem::exists(base + "/" + relative)) return base + "/" + relative;
+        return relative;
+    }
+
+    void runMap(const std::string& label, std::shared_ptr<const Surface> surface, Progress& progress) {
+        std::map<std::pair<std::string, int>, BuiltTracer> built;
+        auto exact = buildTracer(*findTechnique("exact"), surface, 0);
+        std::unique_ptr<EmbreeScene> embree;
+        double embreeBuild = 0;
+        if (m_config.embree && surface->edge() == EdgeMode::Clamp) {
+            const auto start = std::chrono::steady_clock::now();
+            embree = orFail(EmbreeScene::create(*surface));
+            embreeBuild = secondsSince(start);
+        }
+        for (float elevation : m_config.elevations) {
+            OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
+            const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
+            const Image<Hit> reference = tracePrimary(camera, *exact.tracer);
+            if (embree) runEmbree(label, elevation, camera, *embree, embreeBuild, reference);
+            for (const std::string& name : m_config.techniques) {
+                const TechniqueInfo& info = *findTechnique(name);
+                const std::vector<int> caps = hasCap(info) && !m_config.caps.empty() ? m_config.caps : std::vector<int>{0};
+                for (int cap : caps) {
+                    auto key = std::make_pair(name, cap);
+                    if (!built.count(key)) built[key] = buildTracer(info, surface, cap);
+                    const bool images = !m_o.noImages && cap == caps.back();
+                    runTechnique(info, label, elevation, cap, *surface, camera, built[key], reference, images);
+                }
+            }
+            progress.advance();
+        }
+    }
+
+    void runTechnique(const TechniqueInfo& info, const std::string& map, float elevation, int cap,
+                      const Surface& surface, const Camera& camera, const BuiltTracer& built,
+                      const Image<Hit>& reference, bool images) {
+        Row row{std::string(info.name), std::string(toString(info.contract)), map, "cpu", "", elevation, cap};
+        Image<Hit> hits;
+        const double seconds = bestOf(m_config.repeats, [&] { hits = tracePrimary(camera, *built.tracer); });
+        row.stats = compareHits(hits, reference);
+        row.mraysPerSecond = double(hits.pixels.size()) / seconds / 1e6;
+        row.msPerFrame = 1000.0 * seconds;
+        row.buildSeconds = built.buildSeconds;
+        row.bytesPerTexel = built.bytesPerTexel;
+        if (images) {
+            row.images = fmt::format("images/{}_{}_e{:.1f}", slug(map), slug(row.technique), elevation);
+            const std::string base = m_o.outDir + "/" + row.images;
+            Shading shading;
+            orFail(writePng(base + ".png", render(surface, camera, *built.tracer, shading).color));
+            orFail(writePng(base + "-steps.png", heatmap(stepValues(hits), float(row.stats.steps.max), row.technique + " steps")));
+            orFail(writePng(base + "-error.png", heatmap(errorValues(hits, reference),
+                                                          std::max(1e-3f, float(row.stats.error.p99)), row.technique + " |t-t_ref|")));
+        }
+        m_rows.push_back(std::move(row));
+    }
+
+    void runEmbree(const std::string& map, float elevation, const Camera& camera,
+                   const EmbreeScene& scene, double buildSeconds, const Image<Hit>& reference) {
+        const std::vector<Ray> rays = primaryRays(camera);
+        const std::vector<size_t> order = packetOrder(camera.width(), camera.height());
+        std::vector<Ray> packed(rays.size());
+        for (size_t k = 0; k < order.size(); ++k) packed[k] = rays[order[k]];
+        for (int packet : {1, 16}) {
+            std::vector<Hit> hits(rays.size());
+            const std::vector<Ray>& input = packet == 1 ? rays : packed;
+            const double seconds = bestOf(m_config.repeats, [&] {
+                parallelRanges(int64_t(input.size() / 256), 1, [&](int64_t begin, int64_t end) {
+                    const size_t first = size_t(begin) * 256, count = size_t(end - begin) * 256;
+                    auto in = std::span(input).subspan(first, count);
+                    auto out = std::span(hits).subspan(first, count);
+                    packet == 1 ? scene.intersect1(in, out) : scene.intersect16(in, out);
+                });
+            });
+            Image<Hit> image(camera.width(), camera.height());
+            for (size_t k = 0; k < hits.size(); ++k) image.pixels[packet == 1 ? k : order[k]] = hits[k];
+            Row row{packet == 1 ? "embree-1" : "embree-16", "peer", map, "cpu", "", elevation, 0};
+            row.stats = compareHits(image, reference);
+            row.mraysPerSecond = double(hits.size()) / seconds / 1e6;
+            row.msPerFrame = 1000.0 * seconds;
+            row.buildSeconds = buildSeconds;
+            m_rows.push_back(std::move(row));
+        }
+    }
+
+    // Pixel indices in 4×4 packets inside 16×16 tiles (the image size is a multiple of 16).
+    static std::vector<size_t> packetOrder(int w, int h) {
+        std::vector<size_t> order;
+        for (int ty = 0; ty < h; ty += 16)
+            for (int tx = 0; tx < w; tx += 16)
+                for (int py = ty; py < ty + 16; py += 4)
+                    for (int px = tx; px < tx + 16; px += 4)
+                        for (int y = py; y < py + 4; ++y)
+                            for (int x = px; x < px + 4; ++x) order.push_back(size_t(y) * size_t(w) + size_t(x));
+        return order;
+    }
+
+    nlohmann::json rowJson(const Row& r) const {
+        nlohmann::json j = {{"technique", r.technique}, {"contract", r.contract}, {"map", r.map},
+                            {"backend", r.backend}, {"elevation", r.elevation}, {"cap", r.cap},
+                            {"error_mean", r.stats.error.mean}, {"error_p95", r.stats.error.p95},
+                            {"error_max", r.stats.error.max}, {"wrong_rate", r.stats.wrongRate()},
+                            {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},
+                            {"fetches_mean", r.stats.fetches.mean}, {"fetches_max", r.stats.fetches.max},
+                            {"bytes_per_texel", r.bytesPerTexel}, {"images", r.images}};
+        if (!m_o.deterministic) {
+            j["mrays_per_s"] = r.mraysPerSecond;
+            j["ms_per_frame"] = r.msPerFrame;
+            j["build_seconds"] = r.buildSeconds;
+        }
+        return j;
+    }
+
+    void writeResults() const {
+        nlohmann::json rows = nlohmann::json::array();
+        for (const Row& r : m_rows) rows.push_back(rowJson(r));
+        const nlohmann::json meta = {{"preset", m_o.preset}, {"threads", ThreadLimit::current()},
+                                     {"image_size", fmt::format("{}x{}", m_config.size.x, m_config.size.y)},
+                                     {"machine", machineName()},
+                                     {"date", m_o.deterministic ? std::string("-") : today()}};
+        writeFile("results.json", nlohmann::json{{"meta", meta}, {"rows", rows}}.dump(2) + "\n");
+        std::string csv;
+        const std::vector<std::string> columns = {"technique", "contract", "map", "backend", "elevation", "cap",
+            "error_mean", "error_p95", "error_max", "wrong_rate", "steps_mean", "steps_max", "fetches_mean",
+            "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel"};
+        for (size_t c = 0; c < columns.size(); ++c) csv += (c ? "," : "") + columns[c];
+        csv += "\n";
+        for (const nlohmann::json& row : rows) {
+            for (size_t c = 0; c < columns.size(); ++c) {
+                const auto it = row.find(columns[c]);
+                csv += c ? "," : "";
+                if (it == row.end()) continue;
+                csv += it->is_string() ? it->get<std::string>() : it->dump();
+            }
+            csv += "\n";
+        }
+        writeFile("results.csv", csv);
+        writePlots();
+        writeFile("index.html", html(meta));
+        std::cout << markdownTable() << fmt::format("\nwrote {}/index.html, results.csv, results.json\n", m_o.outDir);
+    }
+
+    void writePlots() const {
+        std::map<std::string, PlotSeries> errorVsCap, stepsVsElevation;
+        std::map<std::pair<std::string, double>, std::pair<double, int>> errorSum, stepsSum;
+        for (const Row& r : m_rows) {
+            if (r.cap > 0) {
+                auto& acc = errorSum[{r.technique, r.cap}];
+                acc.first += r.stats.error.mean;
+                acc.second++;
+            }
+            if (r.cap == 0 || r.cap == m_config.caps.back()) {
+                auto& acc = stepsSum[{r.technique, r.elevation}];
+                acc.first += r.stats.steps.mean;
+                acc.second++;
+            }
+        }
+        for (const auto& [key, acc] : errorSum) {
+            PlotSeries& s = errorVsCap[key.first];
+            s.label = key.first;
+            s.x.push_back(key.second);
+            s.y.push_back(acc.first / acc.second);
+        }
+        for (const auto& [key, acc] : stepsSum) {
+            PlotSeries& s = stepsVsElevation[key.first];
+            s.label = key.first;
+            s.x.push_back(key.second);
+            s.y.push_back(acc.first / acc.second);
+        }
+        auto values = [](const std::map<std::string, PlotSeries>& m) {
+            std::vector<PlotSeries> v;
+            for (const auto& [k, s] : m) v.push_back(s);
+            return v;
+        };
+        writeFile("error_vs_cap.svg", svgLinePlot({"mean |t - t_exact| vs iteration cap (all maps and views)",
+                                                   "iteration cap", "mean |error| (texels)", true, true}, values(errorVsCap)));
+        writeFile("steps_vs_elevation.svg", svgLinePlot({"mean steps per pixel vs camera elevation",
+                                                         "elevation (degrees)", "mean steps", false, true}, values(stepsVsElevation)));
+    }
+
+    std::string markdownTable() const {
+        std::string t = "| technique | map | elev | cap | mean err | wrong % | mean steps | Mrays/s | build s |\n"
+                        "|---|---|---|---|---|---|---|---|---|\n";
+        for (const Row& r : m_rows)
+            t += fmt::format("| {} | {} | {:.1f} | {} | {:.3g} | {:.3f} | {:.2f} | {} | {} |\n", r.technique, r.map,
+                             r.elevation, r.cap ? std::to_string(r.cap) : "-", r.stats.error.mean,
+                             100 * r.stats.wrongRate(), r.stats.steps.mean,
+                             m_o.deterministic ? "-" : fmt::format("{:.2f}", r.mraysPerSecond),
+                             m_o.deterministic ? "-" : fmt::format("{:.3f}", r.buildSeconds));
+        return t;
+    }
+
+    std::string html(const nlohmann::json& meta) const {
+        std::string h = "<!doctype html><html><head><meta charset=\"utf-8\"><title>relief bench</title><style>"
+                        "body{font-family:sans-serif;margin:20px}table{border-collapse:collapse;font-size:12px}"
+                        "td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}img{max-width:320px}"
+                        "</style></head><body><h1>relief bench: " + m_o.preset + "</h1>";
+        h += fmt::format("<p>Machine: {}; threads: {}; image {}; date {}. All rows of one map and view "
+                         "traced the same primary rays in one run; Mrays/s is the best of {} runs.</p>",
+                         meta["machine"].get<std::string>(), meta["threads"].dump(), meta["image_size"].get<std::string>(),
+                         meta["date"].get<std::string>(), m_config.repeats);
+        if (!m_config.paperNotes.empty()) h += "<h2>The paper's figures</h2><p>" + m_config.paperNotes + "</p>";
+        h += "<h2>Plots</h2><img src=\"error_vs_cap.svg\" style=\"max-width:640px\"> "
+             "<img src=\"steps_vs_elevation.svg\" style=\"max-width:640px\">";
+        h += "<h2>Results</h2><table><tr><th>technique</th><th>contract</th><th>map</th><th>elev</th><th>cap</th>"
+             "<th>mean err</th><th>p95 err</th><th>max err</th><th>wrong %</th><th>mean steps</th><th>max steps</th>"
+             "<th>Mrays/s</th><th>build s</th><th>bytes/texel</th></tr>";
+        for (const Row& r : m_rows)
+            h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.1f}</td><td>{}</td><td>{:.3g}</td><td>{:.3g}</td>"
+                             "<td>{:.3g}</td><td>{:.3f}</td><td>{:.2f}</td><td>{:.0f}</td><td>{:.2f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>",
+                             r.technique, r.contract, r.map, r.elevation, r.cap, r.stats.error.mean, r.stats.error.p95,
+                             r.stats.error.max, 100 * r.stats.wrongRate(), r.stats.steps.mean, r.stats.steps.max,
+                             r.mraysPerSecond, r.buildSeconds, r.bytesPerTexel);
+        h += "</table><h2>Images (render, steps, error vs exact)</h2>";
+        for (const Row& r : m_rows)
+            if (!r.images.empty())
+                h += fmt::format("<h3>{} — {} — elevation {:.1f}</h3><img src=\"{}.png\"> <img src=\"{}-steps.png\"> "
+                                 "<img src=\"{}-error.png\">", r.technique, r.map, r.elevation, r.images, r.images, r.images);
+        return h + "</body></html>\n";
+    }
+
+    void writeFile(const std::string& name, const std::string& text) const {
+        const std::string path = m_o.outDir + "/" + name;
+        orFail(writeAtomically(path, [&](const std::string& temp) -> Status {
+            std::ofstream out(temp, std::ios::binary);
+            out << text;
+            out.close();
+            if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
+            return {};
+        }));
+    }
+
+    static std::string machineName() {
+        std::ifstream in("/proc/cpuinfo");
+        for (std::string line; std::getline(in, line);)
+            if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+        return "unknown CPU";
+    }
+    static std::string today() {
+        const std::time_t now = std::time(nullptr);
+        char buffer[32];
+        std::strftime(buffer, sizeof buffer, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+        return buffer;
+    }
+
+    const BenchOptions& m_o;
+    BenchConfig m_config;
+    std::vector<Row> m_rows;
+};
+
+void runBench(const BenchOptions& o) {
+    ThreadLimit limit(o.threads);
+    BenchConfig config = orFail(presetConfig(o.preset));
+    orFail(applyOverrides(config, o.techniques, o.maps, o.elevations, o.caps, o.backends, o.size, o.repeats));
+    Bench(o, std::move(config)).run();
+}
+
+}  // namespace
+
+void addBenchCommand(CLI::App& app) {
+    auto o = std::make_shared<BenchOptions>();
+    CLI::App* cmd = app.add_subcommand("bench", "compare techniques on heightfields × views × caps, "
+                                                "with Embree in the same run; writes an HTML report");
+    cmd->add_option("--preset", o->preset, "preset: " + presetNames())->capture_default_str();
+    cmd->add_option("-t,--technique", o->techniques, "techniques, comma-separated (default: the preset's)");
+    cmd->add_option("--heightfields", o->maps, "heightfields, comma-separated (files or gen:NAME:WxH)");
+    cmd->add_option("--elevations", o->elevations, "camera elevations in degrees, comma-separated");
+    cmd->add_option("--caps", o->caps, "iteration caps for techniques that have one, comma-separated");
+    cmd->add_option("--backend", o->backends, "backends, comma-separated: cpu, gl");
+    cmd->add_option("--size", o->size, "image size WxH (multiples of 16)");
+    cmd->add_option("--repeats", o->repeats, "timed runs per row (the best counts)");
+    cmd->add_option("--out-dir", o->outDir, "output folder")->capture_default_str();
+    cmd->add_flag("--no-images", o->noImages, "skip the per-run images");
+    cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the outputs");
+    addThreadsOption(*cmd, o->threads);
+    cmd->callback([o] { runBench(*o); });
+}
+
+}  // namespace relief::cli

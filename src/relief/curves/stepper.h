@@ -1,0 +1,177 @@
+#pragma once
+// The stepping algorithm of Fourquet, Cowan & Mann, "Geometric Displacement on Plane and Sphere"
+// (GI 2008), §4, on one visibility curve.
+//
+// A visibility curve is parameterized by s (plane: horizontal distance from CoP_s; sphere: the
+// angle θ at the centre from CoP_s). Along it the height field is height(s) and an eye ray of the
+// curve's cutting plane is at height level(s) above the underlying surface. Eye rays are solved
+// in order, steepest first; the state carried from one to the next is the last point reached on
+// the height field. Each iteration is one "evaluation": a horizontal step to the eye ray at the
+// current height (stepTo) and a vertical step to the height field (height).
+//
+// Conventions of this implementation where the paper is silent:
+// - Advance/reverse is decided by the side of the ray the current point is on: above the height
+//   field (level ≥ height) steps forward, below it is a reverse. For a descending ray this is the
+//   sign of the horizontal step, as in the paper.
+// - A reverse bisects between the last point known to lie above the height field for this ray
+//   (carried over from earlier rays, which are all steeper) and the point below; the far end of
+//   the reverse step tightens that bracket when it is above. The answer is the linear
+//   interpolation of the level difference at the bracket's ends; the curve continues from the
+//   bracket's upper-side end, which is above the height field for every later ray.
+// - A ray that does not descend has no forward horizontal step: like a step past the trailing
+//   edge it ends the curve.
+// - Clamp mode (DESIGN §1): a leading edge that is not CoP_s is a side wall of the solid. A ray
+//   that crosses it below the height field hits the wall there; a ray that crosses it below the
+//   base misses (it passes under the region). The paper leaves those rays unrendered.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+namespace relief::curves {
+
+// The paper's Table 1 quantities (plus the evaluations they add up to).
+struct StepCounts {
+    int64_t curves = 0;
+    int64_t insideSamples = 0;
+    int64_t extraSamples = 0;
+    int64_t advanceSteps = 0;
+    int64_t reverseSteps = 0;
+    int64_t binaryCuts = 0;
+    int64_t wallHits = 0;
+    int64_t cappedSamples = 0;  // samples that reached the per-sample evaluation cap
+
+    int64_t samples() const { return insideSamples + extraSamples; }
+    int64_t evaluations() const { return advanceSteps + reverseSteps + binaryCuts; }
+    StepCounts& operator+=(const StepCounts& o);
+};
+
+inline StepCounts& StepCounts::operator+=(const StepCounts& o) {
+    curves += o.curves;
+    insideSamples += o.insideSamples;
+    extraSamples += o.extraSamples;
+    advanceSteps += o.advanceSteps;
+    reverseSteps += o.reverseSteps;
+    binaryCuts += o.binaryCuts;
+    wallHits += o.wallHits;
+    cappedSamples += o.cappedSamples;
+    return *this;
+}
+
+struct StepParams {
+    double epsilon = 0.25;  // convergence threshold as a fraction of the ray spacing Δs
+    int maxEvaluations = 200;  // per sample (DESIGN §3 --max-steps)
+};
+
+enum class SampleOutcome {
+    Hit,       // s is the solution on the height field
+    Wall,      // s is the leading edge; the ray hits the solid's side wall there
+    Miss,      // this ray misses; the curve goes on
+    CurveEnd,  // a horizontal step left the mapped region: this ray and every later one miss
+};
+
+struct SampleSolution {
+    SampleOutcome outcome = SampleOutcome::Miss;
+    double s = 0.0;
+    int evaluations = 0;
+};
+
+// Where the curve stands between two eye rays.
+struct CurveState {
+    double s = 0.0;       // current point on the height field
+    double z = 0.0;       // height(s)
+    double sAbove = 0.0;  // a point above the height field for the current and all later rays
+    bool aboveKnown = false;
+};
+
+// Curve: double height(double s) const; double sLead, sTrail; bool leadIsWall.
+// EyeRay: double level(double s) const; double stepTo(double z) const (NaN: no forward step).
+template <class Curve>
+CurveState startCurve(const Curve& curve) {
+    CurveState state;
+    state.s = curve.sLead;
+    state.z = curve.height(curve.sLead);
+    // At CoP_s the first ray is the one perpendicular to the surface: its solution is there and
+    // that point is above the height field for every later (flatter) ray.
+    state.sAbove = curve.sLead;
+    state.aboveKnown = !curve.leadIsWall;
+    return state;
+}
+
+namespace detail {
+
+template <class Curve, class EyeRay>
+SampleSolution bisectReverse(const Curve& curve, const EyeRay& ray, double stepEnd, double tol,
+                             CurveState& st, StepCounts& counts, SampleSolution out) {
+    double lo = st.sAbove, hi = st.s;
+    double fLo = ray.level(lo) - curve.height(lo), fHi = ray.level(hi) - st.z;
+    if (stepEnd > lo && stepEnd < hi) {  // the far end of the reverse step: its vertical step
+        const double z = curve.height(stepEnd), f = ray.level(stepEnd) - z;
+        if (f >= 0.0) lo = stepEnd, fLo = f;
+        else hi = stepEnd, fHi = f;
+    }
+    for (int cut = 0; cut < 64 && hi - lo > tol; ++cut) {  // 64 halvings exhaust a double
+        const double mid = 0.5 * (lo + hi), f = ray.level(mid) - curve.height(mid);
+        ++counts.binaryCuts;
+        ++out.evaluations;
+        if (f >= 0.0) lo = mid, fLo = f;
+        else hi = mid, fHi = f;
+    }
+    const double denom = fLo - fHi;
+    out.s = denom > 0.0 ? lo + (hi - lo) * (fLo / denom) : hi;
+    out.outcome = SampleOutcome::Hit;
+    st.s = lo;
+    st.z = curve.height(lo);  // cached in a real implementation; not counted as a step
+    st.sAbove = lo;
+    return out;
+}
+
+}  // namespace detail
+
+// Solves one eye ray. `spacing` is Δs, the distance between this ray and the previous one on the
+// underlying surface (in units of s).
+template <class Curve, class EyeRay>
+SampleSolution solveSample(const Curve& curve, const EyeRay& ray, double spacing,
+                           const StepParams& params, CurveState& st, StepCounts& counts) {
+    SampleSolution out;
+    const double tol = params.epsilon * spacing;
+    if (!st.aboveKnown || curve.leadIsWall) {
+        const double zLead = curve.height(curve.sLead), level = ray.level(curve.sLead);
+        if (level < 0.0) return out;  // passes under the region
+        if (level < zLead) {
+            ++counts.wallHits;
+            out.outcome = SampleOutcome::Wall;
+            out.s = curve.sLead;
+            return out;
+        }
+        if (!st.aboveKnown) st.sAbove = curve.sLead, st.aboveKnown = true;
+    }
+    while (out.evaluations < params.maxEvaluations) {
+        if (ray.level(st.s) - st.z < 0.0) {  // below the height field: a reverse
+            ++counts.reverseSteps;
+            ++out.evaluations;
+            return detail::bisectReverse(curve, ray, ray.stepTo(st.z), tol, st, counts, out);
+        }
+        const double next = ray.stepTo(st.z);
+        if (!(next <= curve.sTrail)) {  // past the trailing edge, or no forward step
+            out.outcome = SampleOutcome::CurveEnd;
+            return out;
+        }
+        ++counts.advanceSteps;
+        ++out.evaluations;
+        const double step = next - st.s;
+        st.sAbove = st.s;
+        st.s = next;
+        st.z = curve.height(next);
+        if (std::abs(step) < tol) {
+            out.outcome = SampleOutcome::Hit;
+            out.s = next;
+            return out;
+        }
+    }
+    ++counts.cappedSamples;
+    out.outcome = SampleOutcome::Hit;
+    out.s = st.s;
+    return out;
+}
+
+}  // namespace relief::curves

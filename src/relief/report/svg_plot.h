@@ -1,0 +1,22 @@
+#pragma once
+// Line plots written as standalone SVG: no plotting tool needed at run time.
+#include <string>
+#include <vector>
+
+namespace relief {
+
+struct PlotSeries {
+    std::string label;
+    std::vector<double> x, y;
+};
+
+struct PlotSpec {
+    std::string title, xLabel, yLabel;
+    bool logX = false, logY = false;
+    int width = 640, height = 400;
+};
+
+// Non-positive values are skipped on log axes.
+std::string svgLinePlot(const PlotSpec& spec, const std::vector<PlotSeries>& series);
+
+}  // namespace relief

@@ -1,0 +1,35 @@
+#include <relief/techniques/cone/cone.h>
+
+namespace relief {
+
+namespace {
+ConeKind coneKind(int variant) {
+    return variant == 0 ? ConeKind::SafeStrict : ConeKind::FaithfulStrict;
+}
+}  // namespace
+
+Status checkConeParams(const ParamValues& params, std::string_view technique) {
+    const int bits = params.getInt("bits");
+    if (bits != 8 && bits != 16 && bits != 32)
+        return makeError(ErrorKind::BadArgument, "{}: bits must be 8, 16 or 32 (got {})",
+                         technique, bits);
+    return {};
+}
+
+Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input) {
+    if (Status status = checkConeParams(input.params, "cone"); !status.ok()) return status.error();
+    const int variant = input.params.getInt("variant");
+    auto map = coneMapFor(input, "cone", coneKind(variant), variant);
+    if (!map) return map.error();
+    ConeLimits limits;
+    limits.maxSteps = input.params.getInt("max-steps");
+    return makeBatchTracer(ConeTracer(input.surface, std::move(*map), limits));
+}
+
+Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input) {
+    if (Status status = checkConeParams(input.params, "cone"); !status.ok()) return status.error();
+    const int variant = input.params.getInt("variant");
+    return coneTechniqueMaps(input, "cone", coneKind(variant), variant);
+}
+
+}  // namespace relief

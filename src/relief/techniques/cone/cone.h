@@ -1,0 +1,95 @@
+#pragma once
+// cone — conservative cone step mapping with an exact finish.
+// Paper: W. Dummer, "Cone Step Mapping: An Iterative Ray-Heightfield Intersection Algorithm"
+//   (2006): per texel the widest upward cone, apex on the surface, that the heightfield never
+//   enters; the ray steps to where it leaves the cone of the texel it is in.
+// Guarantee (variant 0 `safe`, the default, cone_common.h SafeStrict): each texel (i, j) stores
+//   (a, c) such that S never enters the frustum K = {dist(xy, [i,i+1]×[j,j+1]) ≤ c·(z − a)}
+//   with a = max of S over the footprint. Every marching position p inside the footprint with
+//   p.z ≥ a is in K and K is convex, so the step to K's boundary (coneStep) never passes S,
+//   from any position in the texel, for rays in any direction (upward ones included). Where
+//   p.z < a or the step stalls (< kStall), the tracer tests the cell the ray is in exactly
+//   (firstHitInCell) and moves to its exit: the result is the reference's first hit whenever
+//   the loop ends before `max-steps`. Contract: conservative.
+//   Variant 1 `faithful` (FaithfulStrict): the published map, apex at the sample, distances
+//   between sample centres. S between samples and positions off the texel centre can enter the
+//   cone: approximate (measured in cone_test.cpp and docs/cones.md).
+// Map: "cones", 2 channels (a, c) per texel, W×H; float32 or 16/8-bit codes rounded to the safe
+//   side (cone_common.h). Build: pyramid-pruned search, O(WH · cells inside the cone), parallel.
+// Steps = cone steps + exact cell tests; fetches = 1 per cone step + 4 per cell test.
+// Departures: the footprint frustum (rather than a point apex) and the exact finish make the
+//   method conservative on S; the map is fetched nearest-texel (no interpolation between
+//   texels, which would not be conservative); rays enter through any face (Surface::clip).
+#include <relief/techniques/cone/cone_common.h>
+
+namespace relief {
+
+struct ConeLimits {
+    int maxSteps = 4096;
+    // A cone step shorter than this (texel units along t) hands over to an exact cell test.
+    float stall = 0.1f;
+};
+
+class ConeTracer {
+public:
+    ConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
+               ConeLimits limits)
+        : m_surface(std::move(surface)), m_map(std::move(map)), m_limits(limits) {}
+
+    Hit trace(const Ray& ray) const;
+
+private:
+    std::shared_ptr<const Surface> m_surface;
+    std::shared_ptr<const ConeMap> m_map;
+    ConeLimits m_limits;
+};
+
+inline Hit ConeTracer::trace(const Ray& ray) const {
+    const Surface& s = *m_surface;
+    Hit hit;
+    const RayInterval span = s.clip(ray);
+    if (span.empty()) return hit;
+    const vec3& d = ray.direction;
+    const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+    float t = span.tEnter;
+    while (hit.steps < m_limits.maxSteps) {
+        ++hit.steps;
+        const vec3 p = ray.at(t);
+        const vec2 cone = m_map->at(p.x, p.y);
+        ++hit.fetches;
+        if (p.z >= cone.x) {
+            const float dt = coneStep(p.z, cone.x, cone.y, horizontal, d.z);
+            if (dt >= m_limits.stall) {
+                if (t + dt >= span.tExit)  // leaves the box without meeting S inside it
+                    return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit)
+                                                                 : hit;
+                t += dt;
+                continue;
+            }
+        }
+        // Exact: the cell the ray is in, up to where it leaves it.
+        const CellSpan cell = cellAt(s, ray, t, span.tExit);
+        hit.fetches += 4;
+        const float th = firstHitInCell(s.cellPlanes(cell.ci, cell.cj), ray, cell.ci, cell.cj, t,
+                                        cell.tb);
+        if (th <= cell.tb) return hitAt(ray, th, hit);
+        if (cell.tb >= span.tExit)
+            return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit) : hit;
+        t = cell.tb;
+    }
+    return hitAt(ray, t, hit);  // capped: the last position, never past the first hit
+}
+
+inline constexpr ParamSpec kConeParams[] = {
+    {"max-steps", 4096, 1, 1e9, true,
+     "iteration cap (cone steps + exact cell tests); the default lets grazing rays converge"},
+    {"variant", 0, 0, 1, true, "0 = safe (footprint frustum, conservative), 1 = faithful (Dummer)"},
+    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)"},
+    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)"},
+};
+Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input);
+Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input);
+// Validates `variant`, `bits` and `sqrt` (shared with relaxed-cone).
+Status checkConeParams(const ParamValues& params, std::string_view technique);
+
+}  // namespace relief

@@ -1,0 +1,113 @@
+#pragma once
+// relaxed-cone — relaxed cone stepping then binary refinement.
+// Paper: F. Policarpo & M. M. Oliveira, "Relaxed Cone Stepping for Relief Mapping", GPU Gems 3
+//   ch. 18 (2007): cones that may pierce the surface but never let a ray enter the solid twice
+//   inside them; after `max-steps` cone steps a binary search between the last two positions
+//   finds the hit.
+// Guarantee, by variant:
+//   1 `faithful`: the published map (cone_common.h FaithfulRelaxed): only rays from the box top
+//     above the apex are considered. Rays entering the box elsewhere, or reaching a marching
+//     position after a step, can cross S twice inside a cone (safety shapes §3, Fig. 4): a thin
+//     wall is stepped over. Approximate.
+//   0 `safe` (default): a relaxed cone that satisfies the single-crossing property for every
+//     ray reaching a marching position from anywhere above S (the rays relief traces: shadow
+//     rays, interior origins) is a strict cone (safety shapes §3 and Fig. 6(a): rays starting on
+//     the surface must be accounted for). So the safe map is the safe strict map of `cone`
+//     (footprint frustum, proof in cone_common.h): a step never passes S, the binary search
+//     always brackets the first crossing, and the reported t is the last position known above
+//     S: never past the first hit. It does not converge within 1e-3 at a fixed cap (no exact
+//     finish, as published), so the row's contract is approximate; relaxed_cone_test.cpp checks
+//     "never past the first hit" for it. Relaxed cones valid only for exterior rays (wider) need
+//     the densely sampled ray sets of safety shapes §3 and are not built here.
+// Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
+//   exact walk (ExactTracer), so they are exact.
+// Map: "cones", as `cone` (same encodings). Build: faithful = per sample B above the apex one
+//   ray walk (exact cell exits), pruned by the max pyramid; safe = the strict build.
+// Steps = cone steps + binary steps; fetches = 1 per cone step + 4 per S evaluation.
+// Departures: the binary search evaluates S exactly (not a bilinear fetch); rays enter through
+//   any face; a ray entering below S hits at entry; the map is fetched nearest-texel.
+#include <relief/techniques/cone/cone_common.h>
+#include <relief/techniques/exact/exact.h>
+
+namespace relief {
+
+struct RelaxedLimits {
+    int maxSteps = 15;
+    int binarySteps = 8;
+};
+
+class RelaxedConeTracer {
+public:
+    RelaxedConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
+                      RelaxedLimits limits)
+        : m_surface(surface), m_map(std::move(map)), m_limits(limits), m_exact(surface) {}
+
+    Hit trace(const Ray& ray) const;
+
+private:
+    Hit refine(const Ray& ray, float lo, float hi, float tExit, Hit hit) const;
+
+    std::shared_ptr<const Surface> m_surface;
+    std::shared_ptr<const ConeMap> m_map;
+    RelaxedLimits m_limits;
+    ExactTracer m_exact;
+};
+
+inline Hit RelaxedConeTracer::trace(const Ray& ray) const {
+    const vec3& d = ray.direction;
+    if (d.z >= 0.0f) return m_exact.trace(ray);
+    const Surface& s = *m_surface;
+    Hit hit;
+    const RayInterval span = s.clip(ray);
+    if (span.empty()) return hit;
+    const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
+    float t = span.tEnter, tPrev = t;
+    const vec3 entry = ray.at(t);
+    hit.fetches += 4;
+    if (entry.z <= s.heightAt(entry.x, entry.y)) return hitAt(ray, t, hit);  // side wall
+    while (hit.steps < m_limits.maxSteps) {
+        ++hit.steps;
+        const vec3 p = ray.at(t);
+        const vec2 cone = m_map->at(p.x, p.y);
+        ++hit.fetches;
+        const float dt = p.z > cone.x ? coneStep(p.z, cone.x, cone.y, horizontal, d.z) : 0.0f;
+        if (!(dt > 0.0f)) break;
+        tPrev = t;
+        t = std::min(t + dt, span.tExit);
+        if (t >= span.tExit) break;
+    }
+    return refine(ray, tPrev, t, span.tExit, hit);
+}
+
+inline Hit RelaxedConeTracer::refine(const Ray& ray, float lo, float hi, float tExit,
+                                     Hit hit) const {
+    const Surface& s = *m_surface;
+    auto below = [&](float t) {
+        hit.fetches += 4;
+        const vec3 q = ray.at(t);
+        return q.z <= s.heightAt(q.x, q.y);
+    };
+    if (!below(hi)) {
+        if (hi < tExit) return hitAt(ray, hi, hit);  // not converged: the last position
+        return exitsThroughFloor(s, ray, tExit) ? hitAt(ray, tExit, hit) : hit;
+    }
+    for (int k = 0; k < m_limits.binarySteps; ++k) {
+        ++hit.steps;
+        const float mid = 0.5f * (lo + hi);
+        if (below(mid)) hi = mid; else lo = mid;
+    }
+    return hitAt(ray, lo, hit);  // the last position above S
+}
+
+inline constexpr ParamSpec kRelaxedConeParams[] = {
+    {"max-steps", 15, 1, 1e9, true, "relaxed cone steps (GPU Gems 3 listing: 15)"},
+    {"binary-steps", 8, 0, 64, true, "binary refinement steps"},
+    {"variant", 0, 0, 1, true,
+     "0 = safe (strict footprint cones: never past the first hit), 1 = faithful (top rays)"},
+    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)"},
+    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)"},
+};
+Result<std::unique_ptr<Tracer>> createRelaxedCone(const TechniqueInput& input);
+Result<TechniqueMaps> buildRelaxedConeMaps(const TechniqueInput& input);
+
+}  // namespace relief

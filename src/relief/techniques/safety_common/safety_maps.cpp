@@ -1,0 +1,689 @@
+#include <relief/techniques/safety_common/safety_maps.h>
+
+#include <relief/core/parallel.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numbers>
+
+namespace relief::safety {
+
+double tanPhiMax(double phiMaxDeg) {
+    if (phiMaxDeg >= 90.0) return std::numeric_limits<double>::infinity();
+    return std::tan(phiMaxDeg * std::numbers::pi / 180.0);
+}
+
+// ---- Frames ----
+
+void Frame::world(double a, double b, double& X, double& Y) const {
+    switch (cls) {
+        case kXPlus: X = a, Y = b; return;
+        case kXMinus: X = -a, Y = b; return;
+        case kYPlus: X = b, Y = a; return;
+        default: X = b, Y = -a; return;
+    }
+}
+
+void Frame::local(double X, double Y, double& a, double& b) const {
+    switch (cls) {
+        case kXPlus: a = X, b = Y; return;
+        case kXMinus: a = -X, b = Y; return;
+        case kYPlus: a = Y, b = X; return;
+        default: a = -Y, b = X; return;
+    }
+}
+
+void Frame::worldCell(int ac, int bc, int& ci, int& cj) const {
+    switch (cls) {
+        case kXPlus: ci = ac, cj = bc; return;
+        case kXMinus: ci = -ac - 1, cj = bc; return;
+        case kYPlus: ci = bc, cj = ac; return;
+        default: ci = bc, cj = -ac - 1; return;
+    }
+}
+
+void Frame::texel(int i, int j, int& a0, int& b0) const {
+    switch (cls) {
+        case kXPlus: a0 = i, b0 = j; return;
+        case kXMinus: a0 = -i, b0 = j; return;
+        case kYPlus: a0 = j, b0 = i; return;
+        default: a0 = -j, b0 = i; return;
+    }
+}
+
+namespace {
+
+bool cellInBox(const Surface& s, int ci, int cj) {
+    return s.edge() == EdgeMode::Repeat ||
+           (ci >= -1 && ci <= s.width() - 1 && cj >= -1 && cj <= s.height() - 1);
+}
+
+LocalTriangle makeTriangle(const Frame& f, const std::array<double, 3>& X,
+                           const std::array<double, 3>& Y, const std::array<double, 3>& Z) {
+    LocalTriangle t;
+    for (int v = 0; v < 3; ++v) {
+        f.local(X[v], Y[v], t.a[v], t.b[v]);
+        t.z[v] = Z[v];
+    }
+    const double ua = t.a[1] - t.a[0], ub = t.b[1] - t.b[0], uz = t.z[1] - t.z[0];
+    const double va = t.a[2] - t.a[0], vb = t.b[2] - t.b[0], vz = t.z[2] - t.z[0];
+    const double na = ub * vz - uz * vb, nb = uz * va - ua * vz, nz = ua * vb - ub * va;
+    t.pa = -na / nz;
+    t.pb = -nb / nz;
+    t.z0 = t.z[0] - t.pa * t.a[0] - t.pb * t.b[0];
+    return t;
+}
+
+// Number of local columns (offsets from a0) inside the box in clamp mode; "unbounded" in repeat.
+int columnsAhead(const Surface& s, int cls, int i, int j) {
+    if (s.edge() == EdgeMode::Repeat) return std::numeric_limits<int>::max() / 4;
+    switch (cls) {
+        case kXPlus: return s.width() - 1 - i;
+        case kXMinus: return i;
+        case kYPlus: return s.height() - 1 - j;
+        default: return j;
+    }
+}
+
+int crossCount(const Surface& s, int cls) { return cls < kYPlus ? s.height() : s.width(); }
+
+// Allowed in-plane directions m = tan θ (θ from the class axis) for a plane of local gradient
+// (pa, pb): the class wedge |θ| ≤ π/4 minus the directions along which the plane rises
+// faster than tanPhi. Up to two intervals; returns their count.
+int allowedDirections(double pa, double pb, double tanPhi, double (&lo)[2], double (&hi)[2]) {
+    constexpr double kQuarter = std::numbers::pi / 4.0;
+    const double g = std::hypot(pa, pb);
+    if (!(tanPhi < g)) {
+        lo[0] = -1.0, hi[0] = 1.0;
+        return 1;
+    }
+    if (tanPhi < -g) return 0;
+    const double w = std::acos(std::clamp(tanPhi / g, -1.0, 1.0)) - 1e-12;  // conservative
+    const double centre = std::atan2(pb, pa);
+    double intervals[3][2] = {{-kQuarter, kQuarter}};
+    int count = 1;
+    for (int n = -1; n <= 1; ++n) {
+        const double e0 = centre - w + 2.0 * std::numbers::pi * n;
+        const double e1 = centre + w + 2.0 * std::numbers::pi * n;
+        double next[3][2];
+        int nextCount = 0;
+        for (int k = 0; k < count; ++k) {
+            const double a = intervals[k][0], b = intervals[k][1];
+            if (e1 <= a || e0 >= b) {
+                next[nextCount][0] = a, next[nextCount++][1] = b;
+                continue;
+            }
+            if (a < e0) next[nextCount][0] = a, next[nextCount++][1] = e0;
+            if (e1 < b) next[nextCount][0] = e1, next[nextCount++][1] = b;
+        }
+        count = std::min(nextCount, 2);
+        for (int k = 0; k < count; ++k) intervals[k][0] = next[k][0], intervals[k][1] = next[k][1];
+    }
+    for (int k = 0; k < count; ++k) {
+        lo[k] = std::tan(intervals[k][0]);
+        hi[k] = std::tan(intervals[k][1]);
+    }
+    return count;
+}
+
+}  // namespace
+
+bool cellTriangles(const Surface& s, const Frame& f, int ci, int cj,
+                   std::array<LocalTriangle, 2>& out) {
+    if (!cellInBox(s, ci, cj)) return false;
+    const CellCorners c = s.cellCorners(ci, cj);
+    const double x0 = ci, x1 = ci + 1, y0 = cj, y1 = cj + 1;
+    if (c.z00 + c.z11 <= c.z10 + c.z01) {  // same rule and arithmetic as planesFromCorners
+        out[0] = makeTriangle(f, {x0, x1, x1}, {y0, y0, y1}, {c.z00, c.z10, c.z11});
+        out[1] = makeTriangle(f, {x0, x1, x0}, {y0, y1, y1}, {c.z00, c.z11, c.z01});
+    } else {
+        out[0] = makeTriangle(f, {x0, x1, x0}, {y0, y0, y1}, {c.z00, c.z10, c.z01});
+        out[1] = makeTriangle(f, {x1, x1, x0}, {y0, y1, y1}, {c.z10, c.z11, c.z01});
+    }
+    return true;
+}
+
+double SegmentHeights::at(double b) const {
+    const double u = b - double(b0);
+    return u <= 0.0 ? mid + (mid - lo) * 2.0 * u : mid + (hi - mid) * 2.0 * u;
+}
+
+SegmentHeights segmentHeights(const Surface& s, const Frame& f, int i, int j) {
+    SegmentHeights seg;
+    f.texel(i, j, seg.a0, seg.b0);
+    auto z = [&](int b) {
+        double X, Y;
+        f.world(seg.a0, b, X, Y);
+        return double(s.sampleZ(int(X), int(Y)));
+    };
+    const double below = z(seg.b0 - 1), centre = z(seg.b0), above = z(seg.b0 + 1);
+    seg.lo = 0.5 * (below + centre);
+    seg.mid = centre;
+    seg.hi = 0.5 * (centre + above);
+    return seg;
+}
+
+bool isLimiting(const SegmentHeights& seg, const LocalTriangle& t, double tanPhi) {
+    double lo[2], hi[2];
+    const int arcs = allowedDirections(t.pa, t.pb, tanPhi, lo, hi);
+    const double eps = 1e-9 * (1.0 + std::abs(seg.mid));
+    const double a0 = seg.a0, b0 = seg.b0;
+    auto above = [&](double b) { return t.z0 + t.pa * a0 + t.pb * b - seg.at(b) > eps; };
+    for (int k = 0; k < arcs; ++k) {
+        double y0 = b0 - 0.5, y1 = b0 + 0.5;
+        double reachLo = std::numeric_limits<double>::infinity(), reachHi = -reachLo;
+        for (int v = 0; v < 3; ++v) {
+            const double along = t.a[v] - a0;
+            reachLo = std::min(reachLo, t.b[v] - hi[k] * along);
+            reachHi = std::max(reachHi, t.b[v] - lo[k] * along);
+        }
+        y0 = std::max(y0, reachLo);
+        y1 = std::min(y1, reachHi);
+        if (y0 > y1) continue;
+        if (above(y0) || above(y1) || (y0 < b0 && b0 < y1 && above(b0))) return true;
+    }
+    return false;
+}
+
+// ---- Safety distance ----
+
+namespace {
+
+// A bound on how high a cell's triangle planes can reach when extended back k + 1 columns and
+// k + 2.5 rows: max corner height + (|s_x| + |s_y|)·(k + 2.5). Cells below s_τ by this bound
+// cannot be limiting (their planes stay below S there). Kept per line across the class axis
+// (cell columns for the x classes, rows for the y classes) with maxima over aligned blocks of
+// 16 and 256 cells, so a whole column of the wedge is usually dismissed in a few reads: flat
+// land and sea cost almost nothing.
+class CellBounds {
+public:
+    CellBounds(const Surface& s, bool alongY) : m_alongY(alongY) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        const int extra = m_repeat ? 0 : 1;  // clamp: cells -1 .. W-1
+        m_lines = (alongY ? s.width() : s.height()) + extra;
+        m_length = (alongY ? s.height() : s.width()) + extra;
+        for (int l = 0; l < 3; ++l) m_z[l].assign(blocks(l), 0.0f), m_g[l].assign(blocks(l), 0.0f);
+        parallelRanges(m_lines, 16, [&](int64_t begin, int64_t end) {
+            for (int64_t line = begin; line < end; ++line)
+                for (int p = 0; p < m_length; ++p) fillCell(s, int(line), p);
+        });
+        for (int l = 1; l < 3; ++l)
+            for (int line = 0; line < m_lines; ++line)
+                for (int p = 0; p < m_length; ++p) {
+                    const size_t from = at(0, line, p), to = at(l, line, p);
+                    m_z[l][to] = std::max(m_z[l][to], m_z[0][from]);
+                    m_g[l][to] = std::max(m_g[l][to], m_g[0][from]);
+                }
+    }
+
+    // Bound over cells [lo, hi] across the axis in `line` (cell indices as Surface uses them).
+    double reach(int line, int lo, int hi, int k) const {
+        line = m_repeat ? wrap(line, m_lines) : line + 1;
+        float z = -kInfinity, g = 0.0f;
+        if (m_repeat) {
+            if (hi - lo + 1 >= m_length) {
+                lo = 0, hi = m_length - 1;
+            } else {
+                lo = wrap(lo, m_length), hi = lo + (hi - lo);
+            }
+        } else {
+            lo += 1, hi += 1;
+        }
+        if (hi >= m_length) {  // wrapped (repeat)
+            gather(line, lo, m_length - 1, z, g);
+            gather(line, 0, hi - m_length, z, g);
+        } else {
+            gather(line, lo, hi, z, g);
+        }
+        return double(z) + double(g) * (double(k) + 2.5);
+    }
+
+private:
+    static constexpr int kShift[3] = {0, 4, 8};
+    size_t blocks(int l) const {
+        return size_t(m_lines) * size_t(((m_length - 1) >> kShift[l]) + 1);
+    }
+    size_t at(int l, int line, int p) const {
+        return size_t(line) * size_t(((m_length - 1) >> kShift[l]) + 1) + size_t(p >> kShift[l]);
+    }
+    static int wrap(int v, int n) {
+        v %= n;
+        return v < 0 ? v + n : v;
+    }
+    void fillCell(const Surface& s, int line, int p) {
+        const int extra = m_repeat ? 0 : 1;
+        const int ci = (m_alongY ? line : p) - extra, cj = (m_alongY ? p : line) - extra;
+        const CellCorners c = s.cellCorners(ci, cj);
+        // Each triangle's slopes are corner differences along x and y.
+        const double sx = std::max(std::abs(double(c.z10) - c.z00), std::abs(double(c.z11) - c.z01));
+        const double sy = std::max(std::abs(double(c.z01) - c.z00), std::abs(double(c.z11) - c.z10));
+        m_z[0][at(0, line, p)] = std::max({c.z00, c.z10, c.z01, c.z11});
+        m_g[0][at(0, line, p)] = std::nextafter(float(sx + sy), kInfinity);
+    }
+    void gather(int line, int lo, int hi, float& z, float& g) const {
+        int p = lo;
+        while (p <= hi) {
+            int l = 2;
+            while (l > 0 && ((p & ((1 << kShift[l]) - 1)) != 0 || p + (1 << kShift[l]) - 1 > hi)) --l;
+            const size_t idx = at(l, line, p);
+            z = std::max(z, m_z[l][idx]);
+            g = std::max(g, m_g[l][idx]);
+            p += 1 << kShift[l];
+        }
+    }
+
+    bool m_alongY, m_repeat;
+    int m_lines, m_length;
+    std::vector<float> m_z[3], m_g[3];
+};
+
+struct Bounds {
+    const CellBounds* alongY;  // x classes
+    const CellBounds* alongX;  // y classes
+};
+
+int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDistance,
+              const Bounds* bounds) {
+    const Frame f{cls};
+    const SegmentHeights seg = segmentHeights(s, f, i, j);
+    const double lowest = std::min({seg.lo, seg.mid, seg.hi});
+    const int ahead = columnsAhead(s, cls, i, j);
+    const bool clamp = s.edge() == EdgeMode::Clamp;
+    const int cross = crossCount(s, cls);
+    const CellBounds* cells = bounds ? (cls < kYPlus ? bounds->alongY : bounds->alongX) : nullptr;
+    std::array<LocalTriangle, 2> tris;
+    for (int k = 0; k < maxDistance && k <= ahead; ++k) {
+        int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
+        if (clamp) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
+        int line, unused;
+        f.worldCell(seg.a0 + k, 0, line, unused);
+        if (cls >= kYPlus) f.worldCell(seg.a0 + k, 0, unused, line);
+        if (cells && cells->reach(line, b0, b1, k) <= lowest) continue;  // whole column
+        for (int bc = b0; bc <= b1; ++bc) {
+            if (cells && cells->reach(line, bc, bc, k) <= lowest) continue;
+            int ci, cj;
+            f.worldCell(seg.a0 + k, bc, ci, cj);
+            if (!cellTriangles(s, f, ci, cj, tris)) continue;
+            if (isLimiting(seg, tris[0], tanPhi) || isLimiting(seg, tris[1], tanPhi)) return k;
+        }
+    }
+    return maxDistance;
+}
+
+}  // namespace
+
+int safetyDistanceDirect(const Surface& s, int cls, int i, int j, double tanPhi,
+                         int maxDistance) {
+    return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr);
+}
+
+DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
+    const int w = s.width(), h = s.height();
+    const double tanPhi = tanPhiMax(options.phiMaxDeg);
+    int maxDistance = std::clamp(options.maxDistance, 1, 65535);
+    if (s.edge() == EdgeMode::Repeat) maxDistance = std::min(maxDistance, std::max(w, h));
+    const CellBounds alongY(s, true), alongX(s, false);
+    const Bounds bounds{&alongY, &alongX};
+    DistanceMap map{w, h, kClassCount, {}};
+    map.r.resize(size_t(kClassCount) * size_t(w) * size_t(h));
+    parallelRanges(int64_t(kClassCount) * h, 1, [&](int64_t begin, int64_t end) {
+        for (int64_t row = begin; row < end; ++row) {
+            const int cls = int(row / h), j = int(row % h);
+            uint16_t* out = &map.r[size_t(row) * size_t(w)];
+            for (int i = 0; i < w; ++i)
+                out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds));
+        }
+    });
+    if (!options.isotropic) return map;
+    DistanceMap iso{w, h, 1, std::vector<uint16_t>(size_t(w) * size_t(h))};
+    for (size_t k = 0; k < iso.r.size(); ++k) {
+        uint16_t r = map.r[k];
+        for (int c = 1; c < kClassCount; ++c) r = std::min(r, map.r[size_t(c) * iso.r.size() + k]);
+        iso.r[k] = r;
+    }
+    return iso;
+}
+
+// ---- Cylinder-cone ----
+
+namespace {
+
+// The modified N-buffer of §6.3.2 along one axis: level l holds, for every sample, the maximum
+// of the 2^l samples starting there across the class axis (wrapping in repeat mode). Any window
+// is then the max of two lookups (more only beyond the top level, kept small for memory).
+class WindowMax {
+public:
+    static constexpr int kTopLevel = 9;
+
+    // alongY: windows run along Y inside one column X (the x classes); else along X.
+    WindowMax(const Surface& s, bool alongY) : m_alongY(alongY) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        m_lines = alongY ? s.width() : s.height();
+        m_length = alongY ? s.height() : s.width();
+        m_levels = std::min(kTopLevel, int(std::bit_width(unsigned(m_length))) - 1) + 1;
+        m_data.resize(size_t(m_levels));
+        m_data[0].resize(size_t(m_lines) * size_t(m_length));
+        m_lineMax.assign(size_t(m_lines), 0.0f);
+        for (int line = 0; line < m_lines; ++line)
+            for (int p = 0; p < m_length; ++p) {
+                const float z = alongY ? s.sampleZ(line, p) : s.sampleZ(p, line);
+                m_data[0][size_t(line) * size_t(m_length) + size_t(p)] = z;
+                m_lineMax[size_t(line)] = std::max(m_lineMax[size_t(line)], z);
+            }
+        for (int l = 1; l < m_levels; ++l) {
+            m_data[size_t(l)].resize(m_data[0].size());
+            const int half = 1 << (l - 1);
+            parallelRanges(m_lines, 16, [&](int64_t begin, int64_t end) {
+                for (int64_t line = begin; line < end; ++line) {
+                    const float* prev = &m_data[size_t(l - 1)][size_t(line) * size_t(m_length)];
+                    float* cur = &m_data[size_t(l)][size_t(line) * size_t(m_length)];
+                    for (int p = 0; p < m_length; ++p) {
+                        int q = p + half;
+                        q = m_repeat ? q % m_length : std::min(q, m_length - 1);
+                        cur[p] = std::max(prev[p], prev[q]);
+                    }
+                }
+            });
+        }
+    }
+
+    // Max of samples [start, start + count) across the axis in `line` (clamped or wrapped).
+    float query(int line, int start, int count, int& lookups) const {
+        line = m_repeat ? wrap(line, m_lines) : std::clamp(line, 0, m_lines - 1);
+        if (m_repeat) {
+            if (count >= m_length) return ++lookups, m_lineMax[size_t(line)];
+            start = wrap(start, m_length);
+        } else {
+            const int end = std::min(start + count, m_length);
+            start = std::max(start, 0);
+            count = end - start;
+            if (count <= 0) return -kInfinity;
+        }
+        const int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
+        const int span = 1 << level;
+        const float* row = &m_data[size_t(level)][size_t(line) * size_t(m_length)];
+        float best = -kInfinity;
+        for (int p = start;; p += span) {  // two lookups whenever count < 2^(top+1)
+            const int last = start + count - span;
+            const int q = std::min(p, last);
+            best = std::max(best, row[m_repeat ? q % m_length : q]);
+            ++lookups;
+            if (q == last) break;
+        }
+        return best;
+    }
+
+private:
+    static int wrap(int v, int n) {
+        v %= n;
+        return v < 0 ? v + n : v;
+    }
+    bool m_alongY, m_repeat;
+    int m_lines, m_length, m_levels;
+    std::vector<std::vector<float>> m_data;
+    std::vector<float> m_lineMax;
+};
+
+// The line (world column for x classes, row for y classes) holding local abscissa a.
+int lineOf(const Frame& f, int a) {
+    double X, Y;
+    f.world(a, 0, X, Y);
+    return f.cls < kYPlus ? int(X) : int(Y);
+}
+
+// Vertices that rays from s_τ can reach at local abscissa a0 + x lie in rows b0 ± (x + 2).
+ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, int j, int r,
+                    int& lookups) {
+    const Frame f{cls};
+    int a0, b0;
+    f.texel(i, j, a0, b0);
+    auto hbar = [&](int x) {
+        return windows.query(lineOf(f, a0 + x), b0 - x - 2, 2 * x + 5, lookups);
+    };
+    const float maxZ = s.maxZ();
+    ConeTexel c;
+    c.r = r;
+    c.zc = std::max(hbar(r), hbar(r + 1));
+    const bool repeat = s.edge() == EdgeMode::Repeat;
+    const int ahead = columnsAhead(s, cls, i, j);
+    int xEnd = repeat ? r + kConeScan : ahead + 1;
+    float slope = -kInfinity;
+    if (xEnd > r + kConeScan) {  // beyond the scan the plane must clear the highest sample
+        xEnd = r + kConeScan;
+        slope = (maxZ - c.zc) / float(kConeScan + 1);
+    }
+    for (int x = r + 1; x <= xEnd; ++x) {
+        if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
+        slope = std::max(slope, (hbar(x) - c.zc) / float(x - r));
+    }
+    if (slope == -kInfinity) slope = 0.0f;
+    c.slope = slope;
+    return c;
+}
+
+// Round the plane up a hair so float evaluation in the tracer never dips below a vertex.
+void finishTexel(ConeTexel& c, float maxZ) {
+    c.zc += 1e-6f * (1.0f + maxZ);
+    c.slope += 1e-6f * (1.0f + std::abs(c.slope));
+    c.z0 = c.zc - float(c.r) * c.slope;
+}
+
+}  // namespace
+
+float coneSlopeDirect(const Surface& s, int cls, int i, int j, int r, float zc, double tanPhi,
+                      bool limitingOnly) {
+    const Frame f{cls};
+    const SegmentHeights seg = segmentHeights(s, f, i, j);
+    const bool repeat = s.edge() == EdgeMode::Repeat;
+    const int ahead = columnsAhead(s, cls, i, j);
+    const int cross = crossCount(s, cls);
+    int xEnd = repeat ? r + kConeScan : ahead + 1;
+    float slope = -kInfinity;
+    if (xEnd > r + kConeScan) {
+        xEnd = r + kConeScan;
+        slope = (s.maxZ() - zc) / float(kConeScan + 1);
+    }
+    std::array<LocalTriangle, 2> tris;
+    auto bound = [&](double a, double z) {
+        const int x = int(std::lround(a)) - seg.a0;
+        if (x > r && x <= xEnd) slope = std::max(slope, (float(z) - zc) / float(x - r));
+    };
+    // Every triangle of columns r .. xEnd in the wedge (vertex rows b0 ± (x + 2)).
+    for (int k = r; k <= xEnd; ++k) {
+        int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
+        if (!repeat) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
+        for (int bc = b0; bc <= b1; ++bc) {
+            int ci, cj;
+            f.worldCell(seg.a0 + k, bc, ci, cj);
+            if (!cellTriangles(s, f, ci, cj, tris)) continue;
+            for (const LocalTriangle& t : tris) {
+                if (limitingOnly && !isLimiting(seg, t, tanPhi)) continue;
+                for (int v = 0; v < 3; ++v) bound(t.a[v], t.z[v]);
+            }
+        }
+    }
+    return slope == -kInfinity ? 0.0f : slope;
+}
+
+ConeMap buildConeMap(const Surface& s, const DistanceMap& radii, const BuildOptions& options) {
+    const int w = s.width(), h = s.height();
+    const size_t plane = size_t(w) * size_t(h);
+    const int classes = options.isotropic ? 1 : kClassCount;
+    ConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
+    // All four classes are needed even for the isotropic map (its plane bounds all of them).
+    std::vector<ConeTexel> perClass(size_t(kClassCount) * plane);
+    for (int axis = 0; axis < 2; ++axis) {  // one N-buffer orientation at a time (memory)
+        const WindowMax windows(s, axis == 0);
+        parallelRanges(int64_t(2) * h, 1, [&](int64_t begin, int64_t end) {
+            int lookups = 0;
+            for (int64_t row = begin; row < end; ++row) {
+                const int cls = 2 * axis + int(row / h), j = int(row % h);
+                for (int i = 0; i < w; ++i)
+                    perClass[size_t(cls) * plane + size_t(j) * size_t(w) + size_t(i)] =
+                        coneTexel(s, windows, cls, i, j, radii.at(cls, i, j), lookups);
+            }
+        });
+    }
+    const float maxZ = s.maxZ();
+    parallelRanges(int64_t(plane), 4096, [&](int64_t begin, int64_t end) {
+        for (int64_t k = begin; k < end; ++k) {
+            if (classes == kClassCount) {
+                for (int c = 0; c < kClassCount; ++c) {
+                    ConeTexel t = perClass[size_t(c) * plane + size_t(k)];
+                    finishTexel(t, maxZ);
+                    map.texels[size_t(c) * plane + size_t(k)] = t;
+                }
+                continue;
+            }
+            ConeTexel t = perClass[size_t(k)];  // same r (isotropic) in every class
+            for (int c = 1; c < kClassCount; ++c) {
+                const ConeTexel& o = perClass[size_t(c) * plane + size_t(k)];
+                t.zc = std::max(t.zc, o.zc);
+                t.slope = std::max(t.slope, o.slope);
+            }
+            finishTexel(t, maxZ);
+            map.texels[size_t(k)] = t;
+        }
+    });
+    return map;
+}
+
+// ---- On disk ----
+
+namespace {
+
+std::map<std::string, std::string> parameterText(const BuildOptions& o) {
+    return {{"phi-max", fmt::format("{}", o.phiMaxDeg)},
+            {"isotropic", o.isotropic ? "1" : "0"},
+            {"max-distance", fmt::format("{}", o.maxDistance)}};
+}
+
+Result<double> parameterNumber(const TechniqueMaps& maps, const std::string& name) {
+    auto it = maps.parameters.find(name);
+    if (it == maps.parameters.end())
+        return makeError(ErrorKind::InvalidInput, "{} maps: parameter '{}' missing",
+                         maps.technique, name);
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (!end || *end != '\0' || !std::isfinite(v))
+        return makeError(ErrorKind::InvalidInput, "{} maps: parameter '{}' = '{}' is not a number",
+                         maps.technique, name, it->second);
+    return v;
+}
+
+Status checkArray(const TechniqueMaps& maps, const MapArray* a, const std::string& name,
+                  int width, int height, int channels) {
+    if (!a)
+        return makeError(ErrorKind::InvalidInput, "{} maps: array '{}' missing", maps.technique,
+                         name);
+    if (a->width != width || a->height != height || a->channels != channels ||
+        a->data.size() != size_t(width) * size_t(height) * size_t(channels))
+        return makeError(ErrorKind::InvalidInput,
+                         "{} maps: array '{}' is {}x{}x{}, expected {}x{}x{}", maps.technique,
+                         name, a->width, a->height, a->channels, width, height, channels);
+    return {};
+}
+
+std::string coneArrayName(int cls, int classes) {
+    return classes == 1 ? std::string("cc") : std::string("cc") + kClassNames[cls];
+}
+
+}  // namespace
+
+Result<BuildOptions> optionsFromArrays(const TechniqueMaps& maps) {
+    BuildOptions o;
+    auto phi = parameterNumber(maps, "phi-max");
+    if (!phi) return phi.error();
+    auto iso = parameterNumber(maps, "isotropic");
+    if (!iso) return iso.error();
+    auto dist = parameterNumber(maps, "max-distance");
+    if (!dist) return dist.error();
+    if (*phi < -89.0 || *phi > 90.0 || (*iso != 0.0 && *iso != 1.0) || *dist < 1 || *dist > 65535)
+        return makeError(ErrorKind::InvalidInput, "{} maps: parameters out of range",
+                         maps.technique);
+    o.phiMaxDeg = *phi;
+    o.isotropic = *iso != 0.0;
+    o.maxDistance = int(*dist);
+    return o;
+}
+
+TechniqueMaps distanceMapToArrays(const std::string& technique, const DistanceMap& map,
+                                  const BuildOptions& options) {
+    TechniqueMaps out{technique, parameterText(options), {}};
+    MapArray a{"sd", map.width, map.height, map.classes, {}};
+    a.data.resize(size_t(map.width) * size_t(map.height) * size_t(map.classes));
+    for (int j = 0; j < map.height; ++j)
+        for (int i = 0; i < map.width; ++i)
+            for (int c = 0; c < map.classes; ++c)
+                a.data[(size_t(j) * size_t(map.width) + size_t(i)) * size_t(map.classes) +
+                       size_t(c)] = float(map.at(c, i, j));
+    out.arrays.push_back(std::move(a));
+    return out;
+}
+
+Result<DistanceMap> distanceMapFromArrays(const TechniqueMaps& maps, int width, int height) {
+    auto options = optionsFromArrays(maps);
+    if (!options) return options.error();
+    const int classes = options->isotropic ? 1 : kClassCount;
+    const MapArray* a = maps.find("sd");
+    if (Status s = checkArray(maps, a, "sd", width, height, classes); !s) return s.error();
+    DistanceMap map{width, height, classes, {}};
+    map.r.resize(a->data.size());
+    const size_t plane = size_t(width) * size_t(height);
+    for (size_t p = 0; p < plane; ++p)
+        for (int c = 0; c < classes; ++c) {
+            const float v = a->data[p * size_t(classes) + size_t(c)];
+            if (!(v >= 0.0f && v <= 65535.0f && v == std::floor(v)))
+                return makeError(ErrorKind::InvalidInput, "{} maps: bad safety distance {}",
+                                 maps.technique, v);
+            map.r[size_t(c) * plane + p] = uint16_t(v);
+        }
+    return map;
+}
+
+TechniqueMaps coneMapToArrays(const std::string& technique, const ConeMap& map,
+                              const BuildOptions& options) {
+    TechniqueMaps out{technique, parameterText(options), {}};
+    for (int c = 0; c < map.classes; ++c) {
+        MapArray a{coneArrayName(c, map.classes), map.width, map.height, 3, {}};
+        a.data.reserve(size_t(map.width) * size_t(map.height) * 3);
+        for (int j = 0; j < map.height; ++j)
+            for (int i = 0; i < map.width; ++i) {
+                const ConeTexel& t = map.at(c, i, j);
+                a.data.insert(a.data.end(), {float(t.r), t.zc, t.slope});
+            }
+        out.arrays.push_back(std::move(a));
+    }
+    return out;
+}
+
+Result<ConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, int height) {
+    auto options = optionsFromArrays(maps);
+    if (!options) return options.error();
+    const int classes = options->isotropic ? 1 : kClassCount;
+    const size_t plane = size_t(width) * size_t(height);
+    ConeMap map{width, height, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
+    for (int c = 0; c < classes; ++c) {
+        const std::string name = coneArrayName(c, classes);
+        const MapArray* a = maps.find(name);
+        if (Status s = checkArray(maps, a, name, width, height, 3); !s) return s.error();
+        for (size_t p = 0; p < plane; ++p) {
+            const float r = a->data[3 * p], zc = a->data[3 * p + 1], slope = a->data[3 * p + 2];
+            if (!(r >= 0.0f && r <= 65535.0f && r == std::floor(r)) || !std::isfinite(zc) ||
+                !std::isfinite(slope))
+                return makeError(ErrorKind::InvalidInput, "{} maps: bad texel in '{}'",
+                                 maps.technique, name);
+            ConeTexel& t = map.texels[size_t(c) * plane + p];
+            t.r = int32_t(r);
+            t.zc = zc;
+            t.slope = slope;
+            t.z0 = zc - r * slope;
+        }
+    }
+    return map;
+}
+
+}  // namespace relief::safety

@@ -1,0 +1,141 @@
+// safety-sd: the contract for the parameter variants the generic harness does not cover
+// (isotropic, φ_max, baked maps), shadow rays, and the measured error of the §7 options.
+#include <relief/techniques/safety_common/safety_test_support.h>
+
+#include <relief/techniques/registry.h>
+#include <relief/techniques/safety_sd/safety_sd.h>
+
+namespace relief {
+namespace {
+
+using safety::testing::contractOnAllMaps;
+using safety::testing::inputFor;
+using safety::testing::makeSurface;
+using safety::testing::Tally;
+
+auto sdMaker(std::vector<std::pair<std::string, double>> params) {
+    return [=](std::shared_ptr<const Surface> s) {
+        return *makeSafetySdTracer(inputFor(std::move(s), params, kSafetySdParams));
+    };
+}
+
+TEST(SafetySd, ExactIsotropic) {
+    const Tally t = contractOnAllMaps(sdMaker({{"isotropic", 1}}), 1200, "safety-sd isotropic");
+    EXPECT_GE(t.rays, 100000u);
+    EXPECT_EQ(t.wrong + t.beyond, 0u);
+}
+
+// Rays outside φ_max take the exact walk: still exact, and counted.
+TEST(SafetySd, ExactWithPhiMax) {
+    for (double phi : {-45.0, 30.0}) {
+        const Tally t = contractOnAllMaps(sdMaker({{"phi-max", phi}}), 1200,
+                                          phi < 0 ? "safety-sd phi-max -45" : "safety-sd phi-max 30");
+        EXPECT_GE(t.rays, 100000u);
+        EXPECT_EQ(t.wrong + t.beyond, 0u);
+    }
+    auto s = makeSurface("fbm", 32, 32, EdgeMode::Clamp, 0.25f);
+    const SafetySdTracer tracer = *makeSafetySdTracer(inputFor(s, {{"phi-max", -45}}, kSafetySdParams));
+    const Ray shallow{vec3(-1, 16, 9), glm::normalize(vec3(1, 0.1f, -0.3f)), kInfinity};
+    const Ray steep{vec3(10, 16, 9), glm::normalize(vec3(1, 0.1f, -3.0f)), kInfinity};
+    tracer.trace(shallow);
+    tracer.trace(steep);
+    EXPECT_EQ(tracer.fallbacks(), 1u);
+    EXPECT_FALSE(safety::viewWithinPhiMax(std::span(&shallow, 1), -45.0));
+    EXPECT_TRUE(safety::viewWithinPhiMax(std::span(&steep, 1), -45.0));
+    EXPECT_TRUE(safety::viewWithinPhiMax(std::span(&shallow, 1), 90.0));
+}
+
+// Shadow rays: from points on S toward lights above the horizon (upward rays), hit = occluded.
+template <class Make>
+Tally shadowRays(Make make, const char* label) {
+    Tally all;
+    std::mt19937 rng(3);
+    auto u = [&](float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(rng); };
+    for (const char* gen : {"fbm", "walls", "peaks6", "fig11"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            auto s = makeSurface(gen, 48, 40, edge, 0.25f);
+            const auto tracer = make(s);
+            std::vector<Ray> rays;
+            for (int k = 0; k < 4000; ++k) {
+                const float x = u(0, 48), y = u(0, 40);
+                const float el = glm::radians(u(2.0f, 60.0f)), az = u(0.0f, 6.2832f);
+                const vec3 light(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+                rays.push_back(Ray{vec3(x, y, s->heightAt(x, y) + 1e-3f), light, kInfinity});
+            }
+            const Tally t = safety::testing::tally(tracer, *s, rays);
+            EXPECT_EQ(t.wrong, 0u) << label << " " << gen << " " << toString(edge);
+            all.add(t);
+        }
+    size_t occluded = 0;
+    std::printf("[ safety   ] %s shadow rays %zu, hit/miss differs %zu, both occluded %zu\n", label,
+                all.rays, all.wrong, all.both + occluded);
+    return all;
+}
+
+TEST(SafetySd, ShadowRaysMatchExact) {
+    const Tally t = shadowRays(sdMaker({}), "safety-sd");
+    EXPECT_EQ(t.wrong + t.beyond, 0u);
+    EXPECT_GT(t.both, 1000u);  // plenty of occluded points
+}
+
+// §7 options are approximate: report their error, keep it small.
+TEST(SafetySd, ApproximateVariantsMeasured) {
+    for (const char* name : {"view-dependent", "positive-distance"}) {
+        const Tally t = contractOnAllMaps(sdMaker({{name, 1}}), 1200,
+                                          name[0] == 'v' ? "safety-sd view-dependent (approx.)"
+                                                         : "safety-sd positive-distance (approx.)");
+        ::testing::Test::RecordProperty(name, std::to_string(t.wrong));
+        EXPECT_LT(double(t.wrong), 0.05 * double(t.rays)) << name;
+    }
+}
+
+TEST(SafetySd, BakedMapsRoundTrip) {
+    auto s = makeSurface("walls", 40, 30, EdgeMode::Repeat, 0.25f);
+    const TechniqueInput input = inputFor(s, {{"phi-max", -30}}, kSafetySdParams);
+    auto maps = buildSafetySdMaps(input);
+    ASSERT_TRUE(maps.ok());
+    EXPECT_EQ(maps->parameters.at("phi-max"), "-30");
+    TechniqueInput fromMaps = inputFor(s, {}, kSafetySdParams);
+    fromMaps.maps = &*maps;
+    const SafetySdTracer baked = *makeSafetySdTracer(fromMaps);
+    const SafetySdTracer built = *makeSafetySdTracer(input);
+    EXPECT_EQ(baked.options().phiMaxDeg, -30.0);
+    ::relief::testing::RaySets sets(*s, 9);
+    for (const Ray& r : sets.all(300)) {
+        const Hit a = baked.trace(r), b = built.trace(r);
+        ASSERT_EQ(a.hit, b.hit);
+        ASSERT_EQ(a.steps, b.steps);
+    }
+    TechniqueInput other = inputFor(s, {{"phi-max", 10}}, kSafetySdParams);
+    other.maps = &*maps;
+    EXPECT_FALSE(makeSafetySdTracer(other).ok());
+    TechniqueMaps broken = *maps;
+    broken.arrays[0].data.pop_back();
+    fromMaps.maps = &broken;
+    EXPECT_FALSE(makeSafetySdTracer(fromMaps).ok());
+}
+
+TEST(SafetySd, FewerStepsThanTheReference) {
+    auto s = makeSurface("fbm", 256, 256, EdgeMode::Clamp, 0.1f);
+    const SafetySdTracer tracer = *makeSafetySdTracer(inputFor(s, {}, kSafetySdParams));
+    const ExactTracer exact(s);
+    ::relief::testing::RaySets sets(*s, 4);
+    size_t steps = 0, reference = 0;
+    for (const Ray& r : sets.fromOutside(2000)) {
+        steps += size_t(tracer.trace(r).steps);
+        reference += size_t(exact.trace(r).steps);
+    }
+    std::printf("[ safety   ] fbm 256^2: safety-sd %.1f steps/ray, exact %.1f\n", steps / 2000.0,
+                reference / 2000.0);
+    EXPECT_LT(steps, reference);
+}
+
+TEST(SafetySd, RegistryRow) {
+    const TechniqueInfo* info = findTechnique("safety-sd");
+    ASSERT_NE(info, nullptr);
+    EXPECT_EQ(info->contract, Contract::Exact);
+    EXPECT_NE(info->buildMaps, nullptr);
+}
+
+}  // namespace
+}  // namespace relief
