@@ -93,11 +93,15 @@ std::string qualityTables(const char* name, std::shared_ptr<const Surface> sp, i
     std::string caps = fmt::format("\n**{}** — mean |Δt| (texels) / wrong-hit % over the 8 "
                                    "elevations, by max-steps\n\n| technique |", name);
     for (int cap : kStandardCaps) caps += fmt::format(" {} |", cap);
-    caps += "\n|---|" + std::string(std::size(kStandardCaps) * 4, '-') + "\n";
+    caps += "\n|---|";
+    for (size_t k = 0; k < std::size(kStandardCaps); ++k) caps += "---|";
+    caps += "\n";
     std::string steps = fmt::format("\n**{}** — mean steps per pixel at the default caps, by "
                                     "elevation\n\n| technique |", name);
     for (float el : kStandardElevations) steps += fmt::format(" {}° |", el);
-    steps += "\n|---|" + std::string(std::size(kStandardElevations) * 4, '-') + "\n";
+    steps += "\n|---|";
+    for (size_t k = 0; k < std::size(kStandardElevations); ++k) steps += "---|";
+    steps += "\n";
     for (const Config& c : kConfigs) {
         const TechniqueMaps maps = mapsFor(sp, c);
         caps += fmt::format("| {} |", c.label);

@@ -134,8 +134,8 @@ Built buildMethods(const std::shared_ptr<const Surface>& surface) {
     b.orientedBytes = oriented->planes.bytes();
     b.methods.push_back(
         {"quadtree", makeBatchTracer(QuadtreeTracer(surface, pyramid, Ascent::Parent, {}))});
-    b.methods.push_back({"quadtree ascend=0",
-                         makeBatchTracer(QuadtreeTracer(surface, pyramid, Ascent::None, {}))});
+    b.methods.push_back(
+        {"quadtree ascend=0", makeBatchTracer(QuadtreeTracer(surface, pyramid, Ascent::None, {}))});
     b.methods.push_back({"maxmip", makeBatchTracer(MaxmipTracer(surface, pyramid, {}))});
     b.methods.push_back(
         {"quadtree-oriented", makeBatchTracer(QuadtreeOrientedTracer(surface, oriented, {}))});
@@ -143,7 +143,8 @@ Built buildMethods(const std::shared_ptr<const Surface>& surface) {
     return b;
 }
 
-void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits) {
+// Parallel over 16×16-pixel tiles, the same work items as the Embree runs.
+void traceTiles(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits) {
     forEachTile(rays.size(), [&](size_t first, size_t n) {
         tracer.traceBatch(rays.subspan(first, n), hits.subspan(first, n));
     });
@@ -202,7 +203,7 @@ void scaleOneMap(const std::string& label, Heightfield hf, int imageW, int image
         const std::vector<Ray> rays = tiledPrimaryRays(camera);
         std::vector<std::vector<Hit>> hits(built.methods.size(), std::vector<Hit>(rays.size()));
         for (size_t m = 0; m < built.methods.size(); ++m)
-            traceAll(*built.methods[m].tracer, rays, hits[m]);
+            traceTiles(*built.methods[m].tracer, rays, hits[m]);
         const std::vector<Hit>& reference = hits.back();
         StepRow row{label, pixels, elevation, {}, {}};
         for (size_t m = 0; m < built.methods.size(); ++m) {
@@ -228,8 +229,10 @@ ScalingResult runScaling(const Options& options) {
     ScalingResult result;
     const int imageW = options.quick ? 160 : 320, imageH = options.quick ? 128 : 256;
     std::vector<int> sizes = {256, 512, 1024, 2048, 4096};
-    if (options.quick) sizes = {256, 512, 1024};
-    else sizes.push_back(8192);
+    if (options.quick)
+        sizes = {256, 512, 1024};
+    else
+        sizes.push_back(8192);
     for (int size : sizes) {
         auto start = std::chrono::steady_clock::now();
         auto hf = generateHeightfield("fbm", size, size, 1);
@@ -283,7 +286,7 @@ std::string scalingTables(const ScalingResult& r, int imageW, int imageH) {
 
 std::string scalingSvg(const ScalingResult& r) {
     const double w = 760, h = 520, left = 70, right = 190, top = 40, bottom = 60;
-    const double x0 = 16, x1 = 27;                    // log2 p
+    const double x0 = 16, x1 = 27;                                // log2 p
     const double y0 = std::log10(2.0), y1 = std::log10(20000.0);  // steps, log scale
     auto px = [&](double lp) { return left + (lp - x0) / (x1 - x0) * (w - left - right); };
     auto py = [&](double s) {
@@ -385,7 +388,7 @@ void speedOneMap(int size, const Options& options, SpeedResult& result) {
         std::vector<std::vector<Hit>> hits(result.columns.size(), std::vector<Hit>(rays.size()));
         std::vector<std::function<void()>> runs;
         for (size_t m = 0; m < built.methods.size(); ++m)
-            runs.push_back([&, m] { traceAll(*built.methods[m].tracer, all, hits[m]); });
+            runs.push_back([&, m] { traceTiles(*built.methods[m].tracer, all, hits[m]); });
         const EmbreeScene& embree = **scene;
         const size_t e1 = built.methods.size(), e16 = e1 + 1;
         runs.push_back([&] {
@@ -440,9 +443,9 @@ int run(const Options& options) {
     const int threads = ThreadLimit::current();
     const std::string load = loadAverage();
     std::fprintf(stderr, "bench_quadtree: %d threads, load average %s\n", threads, load.c_str());
-    std::string report = fmt::format("Run {}; {}; {} threads; load average {} at start{}.\n\n",
-                                     todayUtc(), machineDescription(), threads, load,
-                                     options.quick ? "; --quick" : "");
+    std::string report =
+        fmt::format("Run {}; {}; {} threads; load average {} at start{}.\n\n", todayUtc(),
+                    machineDescription(), threads, load, options.quick ? "; --quick" : "");
     const ScalingResult scaling = runScaling(options);
     report += "### Steps per ray against map size\n\n" +
               scalingTables(scaling, options.quick ? 160 : 320, options.quick ? 128 : 256);

@@ -22,8 +22,7 @@ TEST(GlCamera, ExactFrameMatchesCpuOnTheSameRays) {
     RELIEF_REQUIRE_GL();
     auto surface = testing::generatedSurface("peaks6", 64, 48, 0.15f, EdgeMode::Clamp, 7);
     const TechniqueInfo& info = *findTechnique("exact");
-    const GlCamera camera = gl::orbitCamera(*surface, gl::OrbitView{40.2f, 30.0f, 1.0f, 45.0f},
-                                            64, 64);
+    const GlCamera camera = gl::cameraUniforms(Camera(OrbitView{40.2f, 30.0f, 1.0f, 45.0f}, *surface, 64, 64));
     auto frame = traceGlCamera(info, defaultInput(info, surface), camera);
     ASSERT_TRUE(frame) << frame.error().message;
     ASSERT_EQ(frame->size(), 64u * 64u);
@@ -58,8 +57,7 @@ TEST(GlCamera, MeshCoversWhatExactHits) {
     RELIEF_REQUIRE_GL();
     auto surface = testing::generatedSurface("peaks6", 64, 48, 0.15f, EdgeMode::Clamp, 7);
     const TechniqueInfo& info = *findTechnique("exact");
-    const GlCamera camera = gl::orbitCamera(*surface, gl::OrbitView{27.8f, 120.0f, 1.0f, 45.0f},
-                                            96, 64);
+    const GlCamera camera = gl::cameraUniforms(Camera(OrbitView{27.8f, 120.0f, 1.0f, 45.0f}, *surface, 96, 64));
     const GlTimingOptions once{1, 0};
     auto rays = timeGlFrame(info, defaultInput(info, surface), camera, once);
     ASSERT_TRUE(rays) << rays.error().message;
@@ -80,8 +78,7 @@ TEST(GlCamera, DISABLED_Timing640x480) {
     const char* sizeText = std::getenv("RELIEF_GL_TIMING_SIZE");
     const int size = sizeText ? std::atoi(sizeText) : 512;
     auto surface = testing::generatedSurface("peaks6", size, size, 0.1f, EdgeMode::Clamp, 7);
-    const GlCamera camera = gl::orbitCamera(*surface, gl::OrbitView{40.2f, 30.0f, 1.0f, 45.0f},
-                                            640, 480);
+    const GlCamera camera = gl::cameraUniforms(Camera(OrbitView{40.2f, 30.0f, 1.0f, 45.0f}, *surface, 640, 480));
     const GlTimingOptions options{10, 2};
     std::printf("peaks6 %dx%d, 640x480, elevation 40.2, %s\n", size, size,
                 glBackendDescription()->c_str());

@@ -19,6 +19,7 @@ struct BenchConfig {
     float distance = 1.0f;
     float depthRatio = 0.1f;
     int repeats = 3;
+    int glFrames = 10;  // timed GL frames per row
     bool embree = true;
     std::string paperNotes;  // the paper's published figures, shown beside ours
 };

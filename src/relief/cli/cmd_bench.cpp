@@ -5,6 +5,8 @@
 #include <relief/core/parallel.h>
 #include <relief/core/progress.h>
 #include <relief/embree/embree_scene.h>
+#include <relief/gl/camera.h>
+#include <relief/gl/gl_tracer.h>
 #include <relief/io/image_write.h>
 #include <relief/render/compare.h>
 #include <relief/render/renderer.h>
@@ -146,12 +148,16 @@ private:
                 const TechniqueInfo& info = *findTechnique(name);
                 const std::vector<int> caps = hasCap(info) && !m_config.caps.empty() ? m_config.caps : std::vector<int>{0};
                 for (int cap : caps) {
-                    auto key = std::make_pair(name, cap);
-                    if (!built.count(key)) built[key] = buildTracer(info, surface, cap);
-                    const bool images = !m_o.noImages && cap == caps.back();
-                    runTechnique(info, label, elevation, cap, *surface, camera, built[key], reference, images);
+                    if (wants("cpu")) {
+                        auto key = std::make_pair(name, cap);
+                        if (!built.count(key)) built[key] = buildTracer(info, surface, cap);
+                        const bool images = !m_o.noImages && cap == caps.back();
+                        runTechnique(info, label, elevation, cap, *surface, camera, built[key], reference, images);
+                    }
+                    if (wants("gl") && !info.glsl.empty()) runGl(info, label, elevation, cap, surface, camera, reference);
                 }
             }
+            if (wants("gl")) runMesh(label, elevation, *surface, camera);
             progress.advance();
         }
     }
@@ -176,6 +182,37 @@ private:
             orFail(writePng(base + "-error.png", heatmap(errorValues(hits, reference),
                                                           std::max(1e-3f, float(row.stats.error.p99)), row.technique + " |t-t_ref|")));
         }
+        m_rows.push_back(std::move(row));
+    }
+
+    bool wants(const std::string& backend) const {
+        return std::find(m_config.backends.begin(), m_config.backends.end(), backend) != m_config.backends.end();
+    }
+
+    // GPU rows: rays made on the GPU from the camera, ms per frame with glFinish (DESIGN §8);
+    // accuracy from one frame read back and compared with CPU exact on the same rays.
+    void runGl(const TechniqueInfo& info, const std::string& map, float elevation, int cap,
+               std::shared_ptr<const Surface> surface, const Camera& camera, const Image<Hit>& reference) {
+        std::vector<std::pair<std::string, double>> overrides;
+        if (cap > 0) overrides.emplace_back("max-steps", double(cap));
+        const TechniqueInput input{surface, orFail(resolveParams(info, overrides)), nullptr};
+        const gl::CameraUniforms uniforms = gl::cameraUniforms(camera);
+        const GlFrameTiming timing = orFail(timeGlFrame(info, input, uniforms, {m_config.glFrames, 2}));
+        Image<Hit> hits(camera.width(), camera.height());
+        hits.pixels = orFail(traceGlCamera(info, input, uniforms));
+        Row row{std::string(info.name), std::string(toString(info.contract)), map, "gl", "", elevation, cap};
+        row.stats = compareHits(hits, reference);
+        row.msPerFrame = timing.msPerFrame;
+        row.mraysPerSecond = double(hits.pixels.size()) / (timing.msPerFrame * 1e-3) / 1e6;
+        m_glDevice = timing.device;
+        m_rows.push_back(std::move(row));
+    }
+
+    void runMesh(const std::string& map, float elevation, const Surface& surface, const Camera& camera) {
+        const GlFrameTiming timing = orFail(timeRasterizedMesh(surface, gl::cameraUniforms(camera), {m_config.glFrames, 2}));
+        Row row{"mesh", "peer", map, "gl", "", elevation, 0};
+        row.msPerFrame = timing.msPerFrame;
+        row.mraysPerSecond = double(camera.width()) * camera.height() / (timing.msPerFrame * 1e-3) / 1e6;
         m_rows.push_back(std::move(row));
     }
 
@@ -241,6 +278,7 @@ private:
         const nlohmann::json meta = {{"preset", m_o.preset}, {"threads", ThreadLimit::current()},
                                      {"image_size", fmt::format("{}x{}", m_config.size.x, m_config.size.y)},
                                      {"machine", machineName()},
+                                     {"gl_device", m_glDevice},
                                      {"date", m_o.deterministic ? std::string("-") : today()}};
         writeFile("results.json", nlohmann::json{{"meta", meta}, {"rows", rows}}.dump(2) + "\n");
         std::string csv;
@@ -261,6 +299,7 @@ private:
         writeFile("results.csv", csv);
         writePlots();
         writeFile("index.html", html(meta));
+        if (!m_glDevice.empty()) std::cout << "GL: " << m_glDevice << "\n";
         std::cout << markdownTable() << fmt::format("\nwrote {}/index.html, results.csv, results.json\n", m_o.outDir);
     }
 
@@ -303,13 +342,14 @@ private:
     }
 
     std::string markdownTable() const {
-        std::string t = "| technique | map | elev | cap | mean err | wrong % | mean steps | Mrays/s | build s |\n"
-                        "|---|---|---|---|---|---|---|---|---|\n";
+        std::string t = "| technique | backend | map | elev | cap | mean err | wrong % | mean steps | Mrays/s | ms/frame | build s |\n"
+                        "|---|---|---|---|---|---|---|---|---|---|---|\n";
         for (const Row& r : m_rows)
-            t += fmt::format("| {} | {} | {:.1f} | {} | {:.3g} | {:.3f} | {:.2f} | {} | {} |\n", r.technique, r.map,
+            t += fmt::format("| {} | {} | {} | {:.1f} | {} | {:.3g} | {:.3f} | {:.2f} | {} | {} | {} |\n", r.technique, r.backend, r.map,
                              r.elevation, r.cap ? std::to_string(r.cap) : "-", r.stats.error.mean,
                              100 * r.stats.wrongRate(), r.stats.steps.mean,
                              m_o.deterministic ? "-" : fmt::format("{:.2f}", r.mraysPerSecond),
+                             m_o.deterministic ? "-" : fmt::format("{:.3f}", r.msPerFrame),
                              m_o.deterministic ? "-" : fmt::format("{:.3f}", r.buildSeconds));
         return t;
     }
@@ -370,6 +410,7 @@ private:
     const BenchOptions& m_o;
     BenchConfig m_config;
     std::vector<Row> m_rows;
+    std::string m_glDevice;
 };
 
 void runBench(const BenchOptions& o) {

@@ -146,7 +146,9 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
 void runCurvesRender(const RenderOptions& o) {
     if (o.output.empty() && o.outDir.empty())
         throw CommandFailed{{ErrorKind::BadArgument, "say where to write: -o FILE.png or --out-dir DIR"}};
-    if (!o.outDir.empty()) std::filesystem::create_directories(o.outDir);
+    std::error_code ec;
+    if (!o.outDir.empty() && (std::filesystem::create_directories(o.outDir, ec), ec))
+        throw CommandFailed{makeError(ErrorKind::Io, "{}: cannot create folder: {}", o.outDir, ec.message())};
     curves::CurvesRenderRequest r;
     const ivec2 size = orFail(parseImageSize(o.size));
     r.surface = orFail(makeSurface(o.surface, orFail(loadHeightfield(o.surface))));

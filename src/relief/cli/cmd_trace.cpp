@@ -22,10 +22,7 @@ void runTrace(const TraceOptions& o) {
     auto tracer = orFail(makeTracer(o.technique, surface));
     const std::vector<Ray> rays = orFail(readRays(o.rays));
     std::vector<Hit> hits(rays.size());
-    parallelRanges(int64_t(rays.size()), 1024, [&](int64_t begin, int64_t end) {
-        tracer->traceBatch(std::span(rays).subspan(begin, end - begin),
-                           std::span(hits).subspan(begin, end - begin));
-    });
+    traceAll(*tracer, rays, hits);
     orFail(writeHits(o.output, hits));
 }
 

@@ -39,6 +39,7 @@ struct PlaneRay {
     double eyeZ, k, horizontal;
     double level(double s) const { return eyeZ - k * s; }
     double stepTo(double z) const { return k > 0.0 ? (eyeZ - z) / k : kNaN; }
+    double lowest() const { return kNaN; }
     // Where it meets the plane z = zRef (NaN if it does not descend).
     double at(double zRef) const { return k > 0.0 ? (eyeZ - zRef) / k : kNaN; }
     double tOf(double s) const { return s / horizontal; }
@@ -185,8 +186,9 @@ struct SphereRay {
                                     : std::numeric_limits<double>::infinity();
     }
     // The front intersection with the sphere of radius R + z (the paper's θ formula); NaN where
-    // the ray passes above it: the step would leave the visible cap.
+    // the ray passes above it.
     double stepTo(double z) const { return thetaAtRadius(radius + z); }
+    double lowest() const { return 0.5 * std::numbers::pi - delta; }  // closest to the centre
     double thetaAtRadius(double r) const {
         const double x = rho * sinDelta / r;
         return x <= 1.0 ? std::asin(x) - delta : kNaN;
@@ -367,7 +369,6 @@ void fillEmptyPixels(Image<vec3>& sum, Image<int>& count, Image<Hit>& nearest, i
     for (int y = 0; y < sum.height; ++y)
         for (int x = 0; x < sum.width; ++x) {
             if (before.at(x, y) > 0) continue;
-            ++empty;
             vec3 c(0.0f);
             int used = 0;
             for (int dy = -1; dy <= 1; ++dy)
@@ -378,7 +379,8 @@ void fillEmptyPixels(Image<vec3>& sum, Image<int>& count, Image<Hit>& nearest, i
                     c += sum.at(nx, ny) / float(before.at(nx, ny));
                     if (used++ == 0) nearest.at(x, y) = nearest.at(nx, ny);
                 }
-            if (used > 0) {
+            if (used > 0) {  // a hole among sampled pixels (outside the lines: background)
+                ++empty;
                 sum.at(x, y) = c / float(used);
                 count.at(x, y) = -1;  // filled: the sum is already a mean
             }

@@ -24,6 +24,7 @@ struct EyeRay {
     double eyeZ, k;
     double level(double s) const { return eyeZ - k * s; }
     double stepTo(double z) const { return k > 0.0 ? (eyeZ - z) / k : kNaN; }
+    double lowest() const { return kNaN; }
     double ground() const { return k > 0.0 ? eyeZ / k : kNaN; }
 };
 

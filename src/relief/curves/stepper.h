@@ -10,14 +10,15 @@
 // current height (stepTo) and a vertical step to the height field (height).
 //
 // Conventions of this implementation where the paper is silent:
-// - Advance/reverse is decided by the side of the ray the current point is on: above the height
-//   field (level ≥ height) steps forward, below it is a reverse. For a descending ray this is the
-//   sign of the horizontal step, as in the paper.
-// - A reverse bisects between the last point known to lie above the height field for this ray
-//   (carried over from earlier rays, which are all steeper) and the point below; the far end of
-//   the reverse step tightens that bracket when it is above. The answer is the linear
-//   interpolation of the level difference at the bracket's ends; the curve continues from the
-//   bracket's upper-side end, which is above the height field for every later ray.
+// - As in the paper's pseudo-code (§5.4, iii) the threshold is tested before the direction: a
+//   horizontal step shorter than ε·Δs ends the sample whichever way it goes. A longer step from
+//   a point under the ray (backwards for a descending ray) is a reverse: it bisects between the
+//   last point known to lie above the height field for this ray (carried over from earlier,
+//   steeper rays) and the point under it, the far end of the reverse step tightening the bracket.
+//   The answer is the linear interpolation of the level difference at the bracket's ends; the
+//   curve continues from the bracket's upper-side end, above the height field for later rays.
+//   "Advance steps" counts every other horizontal + vertical step pair, "reverse steps" the
+//   reverses that bisect, "binary cuts" the bisection evaluations.
 // - A ray that does not descend has no forward horizontal step: like a step past the trailing
 //   edge it ends the curve.
 // - Clamp mode (DESIGN §1): a leading edge that is not CoP_s is a side wall of the solid. A ray
@@ -84,7 +85,8 @@ struct CurveState {
 };
 
 // Curve: double height(double s) const; double sLead, sTrail; bool leadIsWall.
-// EyeRay: double level(double s) const; double stepTo(double z) const (NaN: no forward step).
+// EyeRay: double level(double s) const; double stepTo(double z) const (NaN: the ray never comes
+// down to height z); double lowest() const (where the ray is lowest, NaN if it keeps descending).
 template <class Curve>
 CurveState startCurve(const Curve& curve) {
     CurveState state;
@@ -99,33 +101,55 @@ CurveState startCurve(const Curve& curve) {
 
 namespace detail {
 
+// `above` has the ray above the height field, `below` under it (either order); bisects down to
+// tol, starting with the far end of the reverse step when it lies between them.
 template <class Curve, class EyeRay>
 SampleSolution bisectReverse(const Curve& curve, const EyeRay& ray, double stepEnd, double tol,
                              CurveState& st, StepCounts& counts, SampleSolution out) {
-    double lo = st.sAbove, hi = st.s;
-    double fLo = ray.level(lo) - curve.height(lo), fHi = ray.level(hi) - st.z;
-    if (stepEnd > lo && stepEnd < hi) {  // the far end of the reverse step: its vertical step
-        const double z = curve.height(stepEnd), f = ray.level(stepEnd) - z;
-        if (f >= 0.0) lo = stepEnd, fLo = f;
-        else hi = stepEnd, fHi = f;
+    double above = st.sAbove, below = st.s;
+    double fAbove = ray.level(above) - curve.height(above), fBelow = ray.level(below) - st.z;
+    if (stepEnd > std::min(above, below) && stepEnd < std::max(above, below)) {
+        const double f = ray.level(stepEnd) - curve.height(stepEnd);  // the reverse's vertical step
+        if (f >= 0.0) above = stepEnd, fAbove = f;
+        else below = stepEnd, fBelow = f;
     }
-    for (int cut = 0; cut < 64 && hi - lo > tol; ++cut) {  // 64 halvings exhaust a double
-        const double mid = 0.5 * (lo + hi), f = ray.level(mid) - curve.height(mid);
+    for (int cut = 0; cut < 64 && std::abs(below - above) > tol; ++cut) {  // 64 exhaust a double
+        const double mid = 0.5 * (above + below), f = ray.level(mid) - curve.height(mid);
         ++counts.binaryCuts;
         ++out.evaluations;
-        if (f >= 0.0) lo = mid, fLo = f;
-        else hi = mid, fHi = f;
+        if (f >= 0.0) above = mid, fAbove = f;
+        else below = mid, fBelow = f;
     }
-    const double denom = fLo - fHi;
-    out.s = denom > 0.0 ? lo + (hi - lo) * (fLo / denom) : hi;
+    const double denom = fAbove - fBelow;
+    out.s = denom > 0.0 ? above + (below - above) * (fAbove / denom) : below;
     out.outcome = SampleOutcome::Hit;
-    st.s = lo;
-    st.z = curve.height(lo);  // cached in a real implementation; not counted as a step
-    st.sAbove = lo;
+    st.s = above;
+    st.z = curve.height(above);  // known from the cuts in a real implementation: not counted
+    st.sAbove = above;
     return out;
 }
 
 }  // namespace detail
+
+// A ray that stays above the current height everywhere (on the sphere, past the base's
+// silhouette: the paper's step that "reaches outside") steps to its lowest point instead. If the
+// height field is above the ray there, the next iteration is a reverse and bisects back; if not,
+// the ray passes above the relief at its closest approach and the curve ends (false). On the
+// plane a non-descending ray has no lowest point (NaN): the curve ends.
+template <class Curve, class EyeRay>
+bool stepToLowest(const Curve& curve, const EyeRay& ray, CurveState& st, StepCounts& counts,
+                  SampleSolution& out) {
+    const double low = ray.lowest();
+    if (!(low > st.s && low <= curve.sTrail)) return false;
+    ++counts.advanceSteps;
+    ++out.evaluations;
+    const double z = curve.height(low);
+    if (ray.level(low) - z >= 0.0) return false;
+    st.sAbove = st.s;
+    st.s = low;
+    st.z = z;
+    return true;
+}
 
 // Solves one eye ray. `spacing` is Δs, the distance between this ray and the previous one on the
 // underlying surface (in units of s).
@@ -146,20 +170,29 @@ SampleSolution solveSample(const Curve& curve, const EyeRay& ray, double spacing
         if (!st.aboveKnown) st.sAbove = curve.sLead, st.aboveKnown = true;
     }
     while (out.evaluations < params.maxEvaluations) {
-        if (ray.level(st.s) - st.z < 0.0) {  // below the height field: a reverse
-            ++counts.reverseSteps;
-            ++out.evaluations;
-            return detail::bisectReverse(curve, ray, ray.stepTo(st.z), tol, st, counts, out);
-        }
+        const bool below = ray.level(st.s) - st.z < 0.0;
         const double next = ray.stepTo(st.z);
-        if (!(next <= curve.sTrail)) {  // past the trailing edge, or no forward step
+        if (std::isnan(next) && !below) {  // the ray never comes down to st.z
+            if (stepToLowest(curve, ray, st, counts, out)) continue;
             out.outcome = SampleOutcome::CurveEnd;
             return out;
         }
+        if (next > curve.sTrail) {  // past the trailing edge: the paper's termination
+            out.outcome = SampleOutcome::CurveEnd;
+            return out;
+        }
+        const double step = next - st.s;
+        // The paper tests the threshold before the direction: a reverse shorter than ε·Δs is a
+        // converged step like any other, and only longer ones (or ones leaving the region
+        // backwards) count as reverses (and bisect).
+        if (below && (!(std::abs(step) < tol) || !(next >= curve.sLead))) {
+            ++counts.reverseSteps;
+            ++out.evaluations;
+            return detail::bisectReverse(curve, ray, next, tol, st, counts, out);
+        }
         ++counts.advanceSteps;
         ++out.evaluations;
-        const double step = next - st.s;
-        st.sAbove = st.s;
+        if (!below) st.sAbove = st.s;
         st.s = next;
         st.z = curve.height(next);
         if (std::abs(step) < tol) {

@@ -1,31 +1,18 @@
 #include <relief/gl/camera.h>
 
-#include <cmath>
-#include <numbers>
 
 namespace relief::gl {
 
-CameraUniforms orbitCamera(const Surface& surface, const OrbitView& view, int width, int height) {
-    const vec3 size(float(surface.width()), float(surface.height()), surface.depth());
-    const vec3 centre = 0.5f * size;
-    const float diagonal = glm::length(size);
-    const float toRadians = std::numbers::pi_v<float> / 180.0f;
-    const float elevation = view.elevationDeg * toRadians, azimuth = view.azimuthDeg * toRadians;
-    const vec3 toEye(std::cos(elevation) * std::cos(azimuth),
-                     std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+CameraUniforms cameraUniforms(const Camera& camera) {
     CameraUniforms c;
-    c.eye = centre + view.distance * diagonal * toEye;
-    c.forward = -glm::normalize(toEye);
-    // Looking straight down, "up" on screen is the azimuth direction instead of +z.
-    const vec3 worldUp = std::abs(c.forward.z) > 0.999f
-                             ? vec3(std::cos(azimuth), std::sin(azimuth), 0.0f)
-                             : vec3(0.0f, 0.0f, 1.0f);
-    c.right = glm::normalize(glm::cross(c.forward, worldUp));
-    c.up = glm::cross(c.right, c.forward);
-    c.tanHalfFovY = std::tan(0.5f * view.fovYDeg * toRadians);
-    c.aspect = float(width) / float(height);
-    c.width = width;
-    c.height = height;
+    c.eye = camera.eye();
+    c.forward = camera.forward();
+    c.right = camera.right();
+    c.up = camera.up();
+    c.tanHalfFovY = camera.halfHeight();
+    c.aspect = camera.halfWidth() / camera.halfHeight();
+    c.width = camera.width();
+    c.height = camera.height();
     return c;
 }
 

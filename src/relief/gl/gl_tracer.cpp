@@ -50,6 +50,7 @@ GlFrameTiming timeFrames(const GlTimingOptions& options, DrawFrame&& drawFrame) 
 
 class GlTracer final : public Tracer {
 public:
+    bool prefersOneBatch() const override { return true; }
     static Result<std::unique_ptr<GlTracer>> create(const TechniqueInfo& info,
                                                     const TechniqueInput& input,
                                                     bool rayProgram) {

@@ -23,6 +23,15 @@ struct RenderResult {
     double seconds = 0.0;  // wall time of tracing and shading
 };
 
+// The shading pieces, shared with the visibility-curve renderer (curves/).
+// The normal used for lighting: the normal map's where one is given and the point is on top of
+// the relief, else `geometric`.
+vec3 shadeNormal(const Surface& surface, const Shading& shading, const vec3& position,
+                 const vec3& geometric);
+vec3 shadeAlbedo(const Surface& surface, const Shading& shading, const vec3& position);
+// Ambient + Lambert; `lit` false means in shadow.
+vec3 shadeLambert(const Shading& shading, const vec3& albedo, const vec3& normal, bool lit);
+
 RenderResult render(const Surface& surface, const Camera& camera, const Tracer& tracer,
                     const Shading& shading);
 

@@ -1,6 +1,7 @@
 #include <relief/techniques/technique.h>
 
 #include <relief/core/check.h>
+#include <relief/core/parallel.h>
 
 namespace relief {
 
@@ -11,6 +12,17 @@ std::string_view toString(Contract contract) {
         case Contract::Approximate: return "approximate";
     }
     return "?";
+}
+
+void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits) {
+    RELIEF_CHECK(rays.size() == hits.size());
+    if (tracer.prefersOneBatch()) {
+        tracer.traceBatch(rays, hits);
+        return;
+    }
+    parallelRanges(int64_t(rays.size()), 256, [&](int64_t begin, int64_t end) {
+        tracer.traceBatch(rays.subspan(begin, end - begin), hits.subspan(begin, end - begin));
+    });
 }
 
 double ParamValues::get(std::string_view name) const {

@@ -45,7 +45,12 @@ class Tracer {
 public:
     virtual ~Tracer() = default;
     virtual void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
+    // True when one large batch beats many small parallel ones (a GPU behind one context).
+    virtual bool prefersOneBatch() const { return false; }
 };
+
+// Traces all rays: one batch if the tracer prefers it, else 256-ray batches in parallel.
+void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits);
 
 // Adapts a technique's concrete tracer (anything with `Hit trace(const Ray&) const`).
 template <class Impl>

@@ -82,16 +82,26 @@ float firstExit(const Surface& s, const Ray& ray, float t0, float t1) {
 }
 
 // Policarpo & Oliveira: the ray from the box top above the apex through sample q, followed past
-// q until it leaves the solid at C, gives |C − apex| / (z_C − a).
-float relaxedRatio(const Surface& s, const Apex& apex, vec3 q) {
+// q until it leaves the solid at C, gives |C − apex| / (z_C − a). Along the ray that ratio only
+// grows, so the walk stops where it reaches `c` (the ratio found so far): C beyond cannot lower it.
+float relaxedRatio(const Surface& s, const Apex& apex, vec3 q, float c) {
     const vec3 top(apex.foot.x0, apex.foot.y0, s.depth());
     if (q.x == top.x && q.y == top.y) return kInfinity;
     const Ray ray{q, glm::normalize(q - top), kInfinity};
     const RayInterval span = s.clip(ray);
     if (span.empty()) return kInfinity;
-    const vec3 c = ray.at(firstExit(s, ray, 0.0f, span.tExit));
-    if (c.z <= apex.a) return kInfinity;
-    return glm::length(vec2(c.x - top.x, c.y - top.y)) / (c.z - apex.a);
+    const float reach = glm::length(vec2(q.x - top.x, q.y - top.y));
+    const float vh = std::sqrt(ray.direction.x * ray.direction.x +
+                               ray.direction.y * ray.direction.y);
+    const float tStop = std::isfinite(c)
+                            ? (c * (q.z - apex.a) - reach) / (vh - c * ray.direction.z)
+                            : kInfinity;
+    const float tEnd = std::min(span.tExit, std::max(0.0f, tStop));
+    const float tc = firstExit(s, ray, 0.0f, tEnd);
+    if (tc >= tEnd && tEnd < span.tExit) return kInfinity;
+    const vec3 exit = ray.at(tc);
+    if (exit.z <= apex.a) return kInfinity;
+    return glm::length(vec2(exit.x - top.x, exit.y - top.y)) / (exit.z - apex.a);
 }
 
 // The bound cell (ci, cj) puts on the ratio of `apex` (kInfinity when none); `c` is the ratio
@@ -112,7 +122,7 @@ float leafRatio(const Surface& s, ConeKind kind, const Apex& apex, int ci, int c
     const float strict =
         glm::length(vec2(q.x - apex.foot.x0, q.y - apex.foot.y0)) / (q.z - apex.a);
     if (kind == ConeKind::FaithfulStrict || strict >= c) return strict;
-    return std::min(c, relaxedRatio(s, apex, q));
+    return std::min(c, relaxedRatio(s, apex, q, c));
 }
 
 // Tile copies (repeat) the widest cone can reach, nearest (0, 0) first.

@@ -23,17 +23,17 @@
 namespace relief {
 
 class MaxmipTracer {
-public:
-    MaxmipTracer(std::shared_ptr<const Surface> surface,
-                 std::shared_ptr<const MaxPyramid> pyramid, WalkLimits limits)
+  public:
+    MaxmipTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const MaxPyramid> pyramid,
+                 WalkLimits limits)
         : m_surface(std::move(surface)), m_pyramid(std::move(pyramid)), m_limits(limits) {}
 
     Hit trace(const Ray& ray) const {
-        return walkPyramid<Ascent::Ancestor>(*m_surface, m_pyramid->layout(),
-                                             MaxBound(*m_pyramid), ray, m_limits);
+        return walkPyramid<Ascent::Ancestor>(*m_surface, m_pyramid->layout(), MaxBound(*m_pyramid),
+                                             ray, m_limits);
     }
 
-private:
+  private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const MaxPyramid> m_pyramid;
     WalkLimits m_limits;

@@ -1,9 +1,8 @@
 // maxmip against the reference (contract "exact").
+#include <gtest/gtest.h>
 #include <relief/techniques/maxmip/maxmip.h>
 #include <relief/techniques/quadtree/walk_test_support.h>
 #include <relief/techniques/registry.h>
-
-#include <gtest/gtest.h>
 
 namespace relief {
 namespace {
@@ -33,8 +32,7 @@ TEST(Maxmip, CappedCursorNeverPassesFirstHit) {
 TEST(Maxmip, ClimbsBackAfterACellTest) {
     const auto surface = walk_test::makeSurface({"spikes", 512, 512, EdgeMode::Clamp, 0.05f});
     const auto tracer = maxmipMaker()(surface);
-    const Ray ray{vec3(0.0f, 100.3f, 25.0f), glm::normalize(vec3(1.0f, 0.0f, -0.001f)),
-                  kInfinity};
+    const Ray ray{vec3(0.0f, 100.3f, 25.0f), glm::normalize(vec3(1.0f, 0.0f, -0.001f)), kInfinity};
     const Hit hit = tracer.trace(ray);
     const Hit ref = ExactTracer(surface).trace(ray);
     EXPECT_EQ(hit.hit, ref.hit);

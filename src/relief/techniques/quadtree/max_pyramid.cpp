@@ -1,6 +1,5 @@
-#include <relief/techniques/quadtree/max_pyramid.h>
-
 #include <relief/core/parallel.h>
+#include <relief/techniques/quadtree/max_pyramid.h>
 
 #include <algorithm>
 #include <bit>
@@ -41,8 +40,7 @@ VertexGrid::VertexGrid(const Surface& surface) {
 MaxPyramid::MaxPyramid(const Surface& surface)
     : MaxPyramid(VertexGrid(surface), PyramidLayout::of(surface)) {}
 
-MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout)
-    : m_layout(layout) {
+MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout) : m_layout(layout) {
     size_t total = 0;
     for (int level = 0; level < layout.levels; ++level)
         total += Index::size(layout.widthAt(level), layout.heightAt(level));
@@ -78,11 +76,9 @@ void MaxPyramid::buildCoarser(int level) {
             const int y0 = 2 * y, y1 = std::min(2 * y + 1, fineH - 1);  // odd sizes: one child
             for (int x = 0; x < m_layout.widthAt(level); ++x) {
                 const int x0 = 2 * x, x1 = std::min(2 * x + 1, fineW - 1);
-                out.values[out.index(x, y)] =
-                    std::max(std::max(fine.values[fine.index(x0, y0)],
-                                      fine.values[fine.index(x1, y0)]),
-                             std::max(fine.values[fine.index(x0, y1)],
-                                      fine.values[fine.index(x1, y1)]));
+                out.values[out.index(x, y)] = std::max(
+                    std::max(fine.values[fine.index(x0, y0)], fine.values[fine.index(x1, y0)]),
+                    std::max(fine.values[fine.index(x0, y1)], fine.values[fine.index(x1, y1)]));
             }
         }
     });

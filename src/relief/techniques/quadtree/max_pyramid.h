@@ -52,8 +52,7 @@ struct TiledIndex {
 
     static TiledIndex of(int width) { return {((width - 1) >> kLog) + 1}; }
     static size_t size(int width, int height) {
-        return (size_t((width - 1) >> kLog) + 1) * (size_t((height - 1) >> kLog) + 1)
-               << (2 * kLog);
+        return (size_t((width - 1) >> kLog) + 1) * (size_t((height - 1) >> kLog) + 1) << (2 * kLog);
     }
     size_t operator()(int nx, int ny) const {
         constexpr int kMask = (1 << kLog) - 1;
@@ -65,19 +64,19 @@ struct TiledIndex {
 // The corners of all cells, as a (cellsX+1)×(cellsY+1) grid: vertex (k, l) is the sample
 // (firstCell + k, firstCell + l) of the surface (clamped or wrapped). Used while building.
 class VertexGrid {
-public:
+  public:
     explicit VertexGrid(const Surface& surface);
     int width() const { return m_width; }
     float at(int k, int l) const { return m_z[size_t(l) * size_t(m_width) + size_t(k)]; }
     const float* row(int l) const { return &m_z[size_t(l) * size_t(m_width)]; }
 
-private:
+  private:
     int m_width;
     std::vector<float> m_z;
 };
 
 class MaxPyramid {
-public:
+  public:
     explicit MaxPyramid(const Surface& surface);
     MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout);
     MaxPyramid(MaxPyramid&&) = default;  // level pointers stay valid: the buffer moves along
@@ -91,7 +90,7 @@ public:
     }
     size_t bytes() const { return m_values.size() * sizeof(float); }
 
-private:
+  private:
     using Index = TiledIndex<2>;  // 4×4 floats per tile
     struct Level {
         float* values;

@@ -1,9 +1,8 @@
 // The max pyramid's invariant by brute force: every node equals the max of the corner samples of
 // the cells it covers, and is ≥ S sampled densely over its footprint (odd sizes, both modes).
+#include <gtest/gtest.h>
 #include <relief/techniques/quadtree/max_pyramid.h>
 #include <relief/techniques/quadtree/walk_test_support.h>
-
-#include <gtest/gtest.h>
 
 #include <chrono>
 
@@ -25,8 +24,7 @@ float cornerMax(const Surface& s, const PyramidLayout& layout, int lo, int hi, i
 
 // Max of S over the footprint of cells [lo, hi) × [loY, hiY), sampled 6 times per cell and axis
 // (clamp: clipped to the box).
-float sampledMaxS(const Surface& s, const PyramidLayout& layout, int lo, int hi, int loY,
-                  int hiY) {
+float sampledMaxS(const Surface& s, const PyramidLayout& layout, int lo, int hi, int loY, int hiY) {
     auto range = [&](int a, int b, float size) {
         float x0 = float(layout.firstCell + a) + 0.5f, x1 = float(layout.firstCell + b) + 0.5f;
         if (!layout.repeat) x0 = std::max(x0, 0.0f), x1 = std::min(x1, size);
@@ -53,8 +51,8 @@ TEST_P(MaxPyramidInvariant, NodesBoundSAndEqualTheirCornerMax) {
     EXPECT_EQ(layout.cellsX, surface->width() + (repeat ? 0 : 1));
     EXPECT_EQ(layout.widthAt(layout.topLevel()), 1);
     EXPECT_EQ(layout.heightAt(layout.topLevel()), 1);
-    EXPECT_EQ(pyramid.at(layout.topLevel(), 0, 0), cornerMax(*surface, layout, 0, layout.cellsX,
-                                                             0, layout.cellsY));
+    EXPECT_EQ(pyramid.at(layout.topLevel(), 0, 0),
+              cornerMax(*surface, layout, 0, layout.cellsX, 0, layout.cellsY));
     for (int level = 0; level < layout.levels; ++level)
         for (int ny = 0; ny < layout.heightAt(level); ++ny)
             for (int nx = 0; nx < layout.widthAt(level); ++nx) {
@@ -69,8 +67,8 @@ TEST_P(MaxPyramidInvariant, NodesBoundSAndEqualTheirCornerMax) {
 }
 
 const MapSpec kPyramidMaps[] = {
-    {"fbm", 5, 7, EdgeMode::Clamp, 0.5f},     {"spikes", 33, 17, EdgeMode::Clamp, 0.5f},
-    {"walls", 1, 1, EdgeMode::Clamp, 0.5f},   {"peaks6", 1, 9, EdgeMode::Clamp, 0.5f},
+    {"fbm", 5, 7, EdgeMode::Clamp, 0.5f},      {"spikes", 33, 17, EdgeMode::Clamp, 0.5f},
+    {"walls", 1, 1, EdgeMode::Clamp, 0.5f},    {"peaks6", 1, 9, EdgeMode::Clamp, 0.5f},
     {"terraces", 9, 1, EdgeMode::Clamp, 0.5f}, {"fbm", 16, 16, EdgeMode::Clamp, 0.5f},
     {"walls", 31, 33, EdgeMode::Clamp, 0.5f},
 };
@@ -78,16 +76,16 @@ const MapSpec kPyramidMaps[] = {
 std::vector<MapSpec> pyramidMaps() {
     std::vector<MapSpec> maps;
     for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
-        for (const MapSpec& m : kPyramidMaps) maps.push_back({m.generator, m.width, m.height, edge, 0.5f});
+        for (const MapSpec& m : kPyramidMaps)
+            maps.push_back({m.generator, m.width, m.height, edge, 0.5f});
     return maps;
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, MaxPyramidInvariant, ::testing::ValuesIn(pyramidMaps()),
                          [](const auto& info) {
                              const MapSpec& m = info.param;
-                             return std::string(m.generator) + "_" + std::to_string(m.width) +
-                                    "x" + std::to_string(m.height) + "_" +
-                                    std::string(toString(m.edge));
+                             return std::string(m.generator) + "_" + std::to_string(m.width) + "x" +
+                                    std::to_string(m.height) + "_" + std::string(toString(m.edge));
                          });
 
 TEST(MaxPyramid, LayoutOfOddSizes) {

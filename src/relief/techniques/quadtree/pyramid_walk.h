@@ -2,13 +2,16 @@
 // The pyramid walk shared by `quadtree`, `maxmip` and `quadtree-oriented`: one loop, three
 // choices (what bounds a node, what to do after leaving a node, and caps).
 //
-// The cursor t moves along the ray; (px, py) is the level-0 cell holding it, so the node at any
-// level is (px >> L, py >> L) — the paper's "the cursor is always in the correct node", kept in
-// integers. Each iteration tests one node: the bound gives the first t in the node's segment
-// where the ray may be on or below S; if there is one, the cursor moves there and the walk
-// descends (at level 0: the exact two-triangle test of the cell, `firstHitInCell`); otherwise
-// the cursor moves to the node's exit and the walk steps to the neighbouring node, then ascends
-// as the policy says. The neighbour is found by an integer step of the index (the paper's
+// The cursor t moves along the ray; (px, py) is a level-0 index whose bits ≥ L locate the node
+// holding the cursor at the current level L, (px >> L, py >> L) — the paper's "the cursor is
+// always in the correct node", kept in integers. Descending settles one more bit per axis (is
+// the cursor in the low or the high half of the node?), so at level 0 (px, py) is its cell.
+//
+// Each iteration tests one node: the bound gives the first t in the node's segment where the
+// ray may be on or below S; if there is one, the cursor moves there and the walk descends (at
+// level 0: the exact two-triangle test of the cell, `firstHitInCell`); otherwise the cursor
+// moves to the node's exit and the walk steps to the neighbouring node, then ascends as the
+// policy says. The neighbour is found by an integer step of the index (the paper's
 // "boundary offset" delta, without an epsilon). Everything skipped lies above a bound ≥ S, and
 // every cell the ray crosses below its bound gets the reference's own cell test, so the result
 // is the reference's first hit (up to float rounding of t).
@@ -40,7 +43,11 @@ struct WalkRay {
     float invX, invY, invZ;
     int stepX, stepY;
     float tEnter, tExit;
-    float edgeX, edgeY;  // o.x - 0.5, o.y - 0.5: node sides at cell edges k + 0.5
+    // Node sides, branch-free: t = (float(edge) - sideX) · sideInvX, with sideX = o.x - 0.5 and
+    // sideInvX = invX (sideX = -inf and sideInvX = 1 when d.x = 0, so that t = +inf);
+    // exitMaskX picks the high side (-1) or the low side (0) of a node.
+    float sideX, sideY, sideInvX, sideInvY;
+    int exitMaskX, exitMaskY;
     // Height tolerance of the bound tests: the float error of the ray's z and of S's planes, so
     // that no node is skipped where the reference's cell test could still report a hit.
     float slack;
@@ -49,8 +56,8 @@ struct WalkRay {
     vec3 at(float t) const { return o + t * d; }
 };
 
-// Where the walk is: cursor t, current level, the level-0 cell holding the cursor (pyramid
-// indices), and the global cell index of pyramid index 0 (in repeat mode: the tile's base).
+// Where the walk is: cursor t, current level, the level-0 index of the cursor's node (bits ≥
+// level; pyramid indices), and the global cell index of pyramid index 0 (repeat: the tile's).
 struct WalkCursor {
     float t;
     int level;
@@ -88,8 +95,12 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
             d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
             span.tEnter,
             span.tExit,
-            o.x - 0.5f,
-            o.y - 0.5f,
+            d.x != 0.0f ? o.x - 0.5f : -kInfinity,
+            d.y != 0.0f ? o.y - 0.5f : -kInfinity,
+            d.x != 0.0f ? 1.0f / d.x : 1.0f,
+            d.y != 0.0f ? 1.0f / d.y : 1.0f,
+            d.x > 0.0f ? -1 : 0,
+            d.y > 0.0f ? -1 : 0,
             kWalkSlack * extent,
             s.depth()};
 }
@@ -97,17 +108,6 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
 // t where the ray crosses the cell edge x = edgeCell + 0.5 (the reference's formula, bit for bit).
 inline float boundaryT(int edgeCell, float origin, float inverse) {
     return (float(edgeCell) + 0.5f - origin) * inverse;
-}
-
-// floor for |x| < 2^31 (std::floor is a long sequence without SSE4.1).
-inline int floorToInt(float x) {
-    const int i = int(x);
-    return i - int(float(i) > x);
-}
-
-// Level-0 index of coordinate x within [lo, hi), relative to `base` (float error clamped away).
-inline int cellIndexIn(float x, int base, int lo, int hi) {
-    return std::clamp(floorToInt(x - 0.5f) - base, lo, hi - 1);
 }
 
 inline int floorMod(int a, int n) {
@@ -145,12 +145,12 @@ inline NodeBox nodeBox(const PyramidLayout& layout, const WalkCursor& c) {
     return b;
 }
 
-// Node sides: one subtraction less than boundaryT (the cell test recomputes its own exit).
+// Node sides (the cell test recomputes its own ends with the reference's formula).
 inline NodeExit nodeExit(const WalkRay& r, const NodeBox& b, const WalkCursor& c) {
-    const int edgeX = c.baseX + (r.stepX > 0 ? b.hiX : b.loX);
-    const int edgeY = c.baseY + (r.stepY > 0 ? b.hiY : b.loY);
-    const float tx = r.stepX != 0 ? (float(edgeX) - r.edgeX) * r.invX : kInfinity;
-    const float ty = r.stepY != 0 ? (float(edgeY) - r.edgeY) * r.invY : kInfinity;
+    const int edgeX = c.baseX + b.loX + ((b.hiX - b.loX) & r.exitMaskX);
+    const int edgeY = c.baseY + b.loY + ((b.hiY - b.loY) & r.exitMaskY);
+    const float tx = (float(edgeX) - r.sideX) * r.sideInvX;
+    const float ty = (float(edgeY) - r.sideY) * r.sideInvY;
     return {tx, ty, std::max(c.t, std::min({tx, ty, r.tExit}))};
 }
 
@@ -165,13 +165,13 @@ inline float enterBelow(float top, const WalkRay& r, float t, float tOut) {
 
 // The flat bound of `quadtree` and `maxmip`: the node's maximum (one fetch).
 class MaxBound {
-public:
+  public:
     explicit MaxBound(const MaxPyramid& pyramid) : m_pyramid(&pyramid) {}
     float enter(const NodeBox& b, const WalkRay& r, float t, float tOut) const {
         return enterBelow(m_pyramid->at(b.level, b.nx, b.ny) + r.slack, r, t, tOut);
     }
 
-private:
+  private:
     const MaxPyramid* m_pyramid;
 };
 
@@ -222,14 +222,21 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
 
-inline void descend(const WalkRay& r, const NodeBox& b, float tIn, WalkCursor& c) {
-    if (tIn > c.t) {
-        c.t = tIn;
-        const vec3 p = r.at(tIn);
-        if (r.stepX != 0) c.px = cellIndexIn(p.x, c.baseX, b.loX, b.hiX);
-        if (r.stepY != 0) c.py = cellIndexIn(p.y, c.baseY, b.loY, b.hiY);
-    }
+// Index of the child half (low or high) holding coordinate x, clamped to the existing cells (a
+// truncated node's nominal high half may not exist; float error at its edge may point there).
+inline int childIndex(float x, int base, int lo, int half, int cells) {
+    const bool high = x >= float(base + lo + half) + 0.5f;
+    return std::min(lo + (high ? half : 0), cells - 1);
+}
+
+// Moves the cursor to tIn and into the child that holds it.
+inline void descend(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, float tIn,
+                    WalkCursor& c) {
+    c.t = tIn;
     --c.level;
+    const int half = 1 << c.level;
+    c.px = childIndex(r.o.x + tIn * r.d.x, c.baseX, b.loX, half, layout.cellsX);
+    c.py = childIndex(r.o.y + tIn * r.d.y, c.baseY, b.loY, half, layout.cellsY);
 }
 
 template <Ascent kAscent>
@@ -268,12 +275,10 @@ bool advance(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, co
         from = c.px;
         to = c.px = r.stepX > 0 ? b.hiX : b.loX - 1;
         if (!stepIndex(r.stepX, layout.cellsX, layout.repeat, c.px, c.baseX, seam)) return false;
-        if (r.stepY != 0) c.py = cellIndexIn(r.o.y + c.t * r.d.y, c.baseY, b.loY, b.hiY);
     } else {
         from = c.py;
         to = c.py = r.stepY > 0 ? b.hiY : b.loY - 1;
         if (!stepIndex(r.stepY, layout.cellsY, layout.repeat, c.py, c.baseY, seam)) return false;
-        if (r.stepX != 0) c.px = cellIndexIn(r.o.x + c.t * r.d.x, c.baseX, b.loX, b.hiX);
     }
     c.level = levelAfterStep<kAscent>(layout, c.level, from, to, seam);
     return true;
@@ -282,8 +287,8 @@ bool advance(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, co
 // The walk. Bound: `float enter(const NodeBox&, const WalkRay&, float t, float tOut)`, the
 // first t in [t, tOut] where the ray may be on or below S in the node (> tOut: none), one fetch.
 template <Ascent kAscent, class Bound>
-Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& bound,
-                const Ray& ray, const WalkLimits& limits) {
+Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& bound, const Ray& ray,
+                const WalkLimits& limits) {
     const RayInterval span = s.clip(ray);
     if (span.empty()) return Hit{};
     const WalkRay r = makeWalkRay(ray, span, s);
@@ -299,7 +304,7 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
         const float tIn = bound.enter(b, r, c.t, e.t);
         if (tIn <= e.t) {
             if (c.level > 0) {
-                descend(r, b, tIn, c);
+                descend(layout, r, b, tIn, c);
                 continue;
             }
             if (limits.boxSurface) return makeHit(ray, tIn, steps, fetches);

@@ -32,7 +32,7 @@
 namespace relief {
 
 class QuadtreeTracer {
-public:
+  public:
     QuadtreeTracer(std::shared_ptr<const Surface> surface,
                    std::shared_ptr<const MaxPyramid> pyramid, Ascent ascent, WalkLimits limits)
         : m_surface(std::move(surface)),
@@ -49,7 +49,7 @@ public:
     }
     const MaxPyramid& pyramid() const { return *m_pyramid; }
 
-private:
+  private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const MaxPyramid> m_pyramid;
     Ascent m_ascent;

@@ -1,9 +1,8 @@
 // quadtree against the reference (contract "exact"), and the approximate options.
+#include <gtest/gtest.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/quadtree/walk_test_support.h>
 #include <relief/techniques/registry.h>
-
-#include <gtest/gtest.h>
 
 namespace relief {
 namespace {
@@ -38,8 +37,8 @@ TEST(Quadtree, FixedLoopCursorNeverPassesFirstHit) {
 }
 
 TEST(Quadtree, HugeCapIsExact) {
-    const auto tally = walk_test::contractOnAllMaps(
-        quadtreeMaker(Ascent::Parent, {1000000, false}), 20, "quadtree max-steps=1e6");
+    const auto tally = walk_test::contractOnAllMaps(quadtreeMaker(Ascent::Parent, {1000000, false}),
+                                                    20, "quadtree max-steps=1e6");
     EXPECT_EQ(tally.wrong, 0u);
 }
 
@@ -86,9 +85,9 @@ TEST(Quadtree, RegistryRow) {
     const TechniqueInfo* info = findTechnique("quadtree");
     ASSERT_NE(info, nullptr);
     EXPECT_EQ(info->contract, Contract::Exact);
-    auto tracer = createTracer("quadtree", walk_test::makeSurface({"fbm", 9, 5, EdgeMode::Repeat,
-                                                                   0.3f}),
-                               {{"ascend", 0.0}, {"max-steps", 12.0}});
+    auto tracer =
+        createTracer("quadtree", walk_test::makeSurface({"fbm", 9, 5, EdgeMode::Repeat, 0.3f}),
+                     {{"ascend", 0.0}, {"max-steps", 12.0}});
     EXPECT_TRUE(tracer.ok());
 }
 

@@ -1,10 +1,9 @@
 #pragma once
 // Test support shared by the quadtree, maxmip and quadtree-oriented tests: adversarial ray
 // families and the comparison with the reference `exact` (DESIGN §3, contract "exact").
+#include <gtest/gtest.h>
 #include <relief/core/generators.h>
 #include <relief/techniques/exact/exact.h>
-
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
@@ -47,7 +46,7 @@ inline std::string describe(const Ray& r) {
 // Every generator, both edge modes, odd and tiny sizes, shallow to steep reliefs.
 inline std::vector<MapSpec> contractMaps() {
     std::vector<MapSpec> maps;
-    const char* generators[] = {"sine", "peaks6", "fbm",      "walls",
+    const char* generators[] = {"sine",   "peaks6",   "fbm",  "walls",
                                 "spikes", "terraces", "ramp", "flat"};
     const int sizes[][2] = {{33, 17}, {61, 64}, {5, 7}};
     const float ratios[] = {0.1f, 0.3f, 1.0f};
@@ -65,10 +64,14 @@ inline std::vector<MapSpec> contractMaps() {
 }
 
 class RayMaker {
-public:
+  public:
     RayMaker(const Surface& s, uint32_t seed)
-        : m_s(s), m_rng(seed), m_w(float(s.width())), m_h(float(s.height())),
-          m_d(std::max(s.depth(), 1e-3f)), m_size(std::max(m_w, m_h)) {}
+        : m_s(s),
+          m_rng(seed),
+          m_w(float(s.width())),
+          m_h(float(s.height())),
+          m_d(std::max(s.depth(), 1e-3f)),
+          m_size(std::max(m_w, m_h)) {}
 
     // `perFamily` rays of each family, shuffled together.
     std::vector<Ray> all(int perFamily) {
@@ -110,12 +113,18 @@ public:
         const float s = m_rng() % 2 ? 1.0f : -1.0f;
         const float slope = u(0.01f, 3.0f);
         switch (m_rng() % 6) {
-            case 0: return make(p - 3.0f * m_size * vec3(s, 0, -slope), vec3(s, 0, -slope));
-            case 1: return make(p - 3.0f * m_size * vec3(0, s, -slope), vec3(0, s, -slope));
-            case 2: return make(vec3(p.x, p.y, m_d * 2.0f), vec3(0, 0, -1));
-            case 3: return make(p - 3.0f * m_size * vec3(s, 0, 0), vec3(s, 0, 0));
-            case 4: return make(p - 3.0f * m_size * vec3(0, s, 0), vec3(0, s, 0));
-            default: return make(p - 3.0f * m_size * vec3(s, s, -slope), vec3(s, s, -slope));
+            case 0:
+                return make(p - 3.0f * m_size * vec3(s, 0, -slope), vec3(s, 0, -slope));
+            case 1:
+                return make(p - 3.0f * m_size * vec3(0, s, -slope), vec3(0, s, -slope));
+            case 2:
+                return make(vec3(p.x, p.y, m_d * 2.0f), vec3(0, 0, -1));
+            case 3:
+                return make(p - 3.0f * m_size * vec3(s, 0, 0), vec3(s, 0, 0));
+            case 4:
+                return make(p - 3.0f * m_size * vec3(0, s, 0), vec3(0, s, 0));
+            default:
+                return make(p - 3.0f * m_size * vec3(s, s, -slope), vec3(s, s, -slope));
         }
     }
     // Origins exactly on cell edges and sample positions; along edges, diagonals, vertical.
@@ -125,10 +134,14 @@ public:
         const float s = m_rng() % 2 ? 1.0f : -1.0f, t = m_rng() % 2 ? 1.0f : -1.0f;
         const float slope = u(0.05f, 2.0f);
         switch (m_rng() % 4) {
-            case 0: return make(o, vec3(0, 0, -1));
-            case 1: return make(o, vec3(0, s, -slope));
-            case 2: return make(o, vec3(s, t, -slope));
-            default: return make(vec3(x, y, m_s.heightAt(x, y) + 0.25f), vec3(s, 0, -slope));
+            case 0:
+                return make(o, vec3(0, 0, -1));
+            case 1:
+                return make(o, vec3(0, s, -slope));
+            case 2:
+                return make(o, vec3(s, t, -slope));
+            default:
+                return make(vec3(x, y, m_s.heightAt(x, y) + 0.25f), vec3(s, 0, -slope));
         }
     }
     // Shadow rays: just above S, going up at any elevation.
@@ -150,10 +163,11 @@ public:
         return make(aboveS(u(0.5f, 1.0f) * m_d), d);
     }
 
-private:
+  private:
     float u(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(m_rng); }
     vec3 xy() {
-        if (m_s.edge() == EdgeMode::Repeat) return vec3(u(-1.5f, 2.5f) * m_w, u(-1.5f, 2.5f) * m_h, 0);
+        if (m_s.edge() == EdgeMode::Repeat)
+            return vec3(u(-1.5f, 2.5f) * m_w, u(-1.5f, 2.5f) * m_h, 0);
         return vec3(u(0.0f, m_w), u(0.0f, m_h), 0.0f);
     }
     vec3 aboveS(float clearance) {

@@ -18,7 +18,7 @@ struct OrientedNode {
 static_assert(sizeof(OrientedNode) == 16);
 
 class OrientedPyramid {
-public:
+  public:
     // Slopes from the child maxima at level L-1 of `maxima`; heights exact over the vertices.
     OrientedPyramid(const VertexGrid& vertices, const MaxPyramid& maxima);
     OrientedPyramid(OrientedPyramid&&) = default;  // level pointers move with the buffer
@@ -31,7 +31,7 @@ public:
     }
     size_t bytes() const { return m_nodes.size() * sizeof(OrientedNode); }
 
-private:
+  private:
     using Index = TiledIndex<1>;  // 2×2 nodes of 16 bytes per tile
     struct Level {
         OrientedNode* nodes;

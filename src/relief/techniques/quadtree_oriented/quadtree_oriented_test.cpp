@@ -1,10 +1,9 @@
 // quadtree-oriented: the plane of every node bounds S (brute force), fits a ramp, and the tracer
 // is exact against the reference.
+#include <gtest/gtest.h>
 #include <relief/techniques/quadtree/walk_test_support.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
 #include <relief/techniques/registry.h>
-
-#include <gtest/gtest.h>
 
 namespace relief {
 namespace {
@@ -45,37 +44,37 @@ TEST_P(OrientedInvariant, PlaneAndMaxBoundSOverEveryNode) {
     const auto surface = walk_test::makeSurface(GetParam(), 5);
     const OrientedMaps maps(*surface);
     size_t samples = 0;
-    forEachNode(*surface, maps, [&](int level, const OrientedNode& n, float nodeX, float nodeY,
-                                    float x0, float x1, float y0, float y1) {
-        const int steps = 5 * (1 << level);
-        for (int j = 0; j <= steps; ++j)
-            for (int i = 0; i <= steps; ++i) {
-                const float x = x0 + (x1 - x0) * float(i) / float(steps);
-                const float y = y0 + (y1 - y0) * float(j) / float(steps);
-                const float s = surface->heightAt(x, y);
-                ASSERT_GE(planeAt(n, level, nodeX, nodeY, x, y), s)
-                    << "level " << level << " at " << x << "," << y;
-                ASSERT_GE(n.zmax, s);
-                ++samples;
-            }
-    });
+    forEachNode(*surface, maps,
+                [&](int level, const OrientedNode& n, float nodeX, float nodeY, float x0, float x1,
+                    float y0, float y1) {
+                    const int steps = 5 * (1 << level);
+                    for (int j = 0; j <= steps; ++j)
+                        for (int i = 0; i <= steps; ++i) {
+                            const float x = x0 + (x1 - x0) * float(i) / float(steps);
+                            const float y = y0 + (y1 - y0) * float(j) / float(steps);
+                            const float s = surface->heightAt(x, y);
+                            ASSERT_GE(planeAt(n, level, nodeX, nodeY, x, y), s)
+                                << "level " << level << " at " << x << "," << y;
+                            ASSERT_GE(n.zmax, s);
+                            ++samples;
+                        }
+                });
     EXPECT_GT(samples, 0u);
 }
 
 const MapSpec kOrientedMaps[] = {
-    {"fbm", 5, 7, EdgeMode::Clamp, 0.5f},      {"spikes", 33, 17, EdgeMode::Clamp, 1.0f},
-    {"peaks6", 1, 9, EdgeMode::Clamp, 0.5f},   {"ramp", 37, 21, EdgeMode::Clamp, 0.5f},
+    {"fbm", 5, 7, EdgeMode::Clamp, 0.5f},        {"spikes", 33, 17, EdgeMode::Clamp, 1.0f},
+    {"peaks6", 1, 9, EdgeMode::Clamp, 0.5f},     {"ramp", 37, 21, EdgeMode::Clamp, 0.5f},
     {"terraces", 40, 40, EdgeMode::Clamp, 0.3f}, {"fbm", 5, 7, EdgeMode::Repeat, 0.5f},
-    {"walls", 33, 17, EdgeMode::Repeat, 0.5f}, {"ramp", 37, 21, EdgeMode::Repeat, 0.5f},
+    {"walls", 33, 17, EdgeMode::Repeat, 0.5f},   {"ramp", 37, 21, EdgeMode::Repeat, 0.5f},
     {"sine", 64, 64, EdgeMode::Repeat, 0.3f},
 };
 
 INSTANTIATE_TEST_SUITE_P(Maps, OrientedInvariant, ::testing::ValuesIn(kOrientedMaps),
                          [](const auto& info) {
                              const MapSpec& m = info.param;
-                             return std::string(m.generator) + "_" + std::to_string(m.width) +
-                                    "x" + std::to_string(m.height) + "_" +
-                                    std::string(toString(m.edge));
+                             return std::string(m.generator) + "_" + std::to_string(m.width) + "x" +
+                                    std::to_string(m.height) + "_" + std::string(toString(m.edge));
                          });
 
 // On a ramp (clamp, away from the flat border strips) the plane is the ramp itself.
@@ -83,13 +82,15 @@ TEST(QuadtreeOriented, PlaneFitsARamp) {
     const auto surface = walk_test::makeSurface({"ramp", 64, 64, EdgeMode::Clamp, 0.5f});
     const OrientedMaps maps(*surface);
     int checked = 0;
-    forEachNode(*surface, maps, [&](int level, const OrientedNode& n, float nodeX, float nodeY,
-                                    float x0, float x1, float y0, float y1) {
-        if (x0 < 0.5f || x1 > 63.5f) return;  // touches a border strip
-        const float x = 0.5f * (x0 + x1), y = 0.5f * (y0 + y1);
-        EXPECT_NEAR(planeAt(n, level, nodeX, nodeY, x, y), surface->heightAt(x, y), 1e-3f);
-        ++checked;
-    });
+    forEachNode(*surface, maps,
+                [&](int level, const OrientedNode& n, float nodeX, float nodeY, float x0, float x1,
+                    float y0, float y1) {
+                    if (x0 < 0.5f || x1 > 63.5f) return;  // touches a border strip
+                    const float x = 0.5f * (x0 + x1), y = 0.5f * (y0 + y1);
+                    EXPECT_NEAR(planeAt(n, level, nodeX, nodeY, x, y), surface->heightAt(x, y),
+                                1e-3f);
+                    ++checked;
+                });
     EXPECT_GT(checked, 10);
 }
 

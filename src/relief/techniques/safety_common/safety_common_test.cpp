@@ -89,7 +89,7 @@ size_t violationsAt(const Surface& s, int cls, int i, int j, double tanPhi, With
 double rayLimit(const Surface& s) { return 3.0 * double(std::max(s.width(), s.height())); }
 
 void checkDistanceInvariant(double phiMaxDeg) {
-    size_t rays = 0, bad = 0, texels = 0;
+    size_t rays = 0, bad = 0, texels = 0, tight = 0;
     std::mt19937 rng(11);
     for (const InvariantCase& c : kInvariantCases) {
         auto s = makeSurface(c.generator, c.width, c.height, c.edge, c.depthRatio);
@@ -111,8 +111,17 @@ void checkDistanceInvariant(double phiMaxDeg) {
                                          << " rays cross S twice";
                     bad += v;
                     ++texels;
+                    if (r < kMaxDistance && r + 1.0 <= rayLimit(*s)) {  // the scan is tight
+                        size_t unused = 0;
+                        tight += violationsAt(*s, cls, i, j, tanPhi,
+                                              [&](vec3, vec3, double) { return r + 1.0; }, unused,
+                                              rng) > 0;
+                    }
                 }
     }
+    std::printf("[ safety   ] SD with r + 1: %zu of %zu texel-classes show a double crossing\n",
+                tight, texels);
+    EXPECT_GT(tight, texels / 10);
     std::printf("[ safety   ] SD invariant (phi-max %g): %zu texel-classes, %zu rays, %zu "
                 "crossing S twice within r\n", phiMaxDeg, texels, rays, bad);
     EXPECT_EQ(bad, 0u);

@@ -219,15 +219,34 @@ public:
                 }
     }
 
-    // Bound over cells [lo, hi] across the axis in `line` (cell indices as Surface uses them).
-    double reach(int line, int lo, int hi, int k) const {
+    // True when no cell in [lo, hi] across the axis in `line` (cell indices as Surface uses
+    // them) can hold a limiting triangle for a segment whose lowest point is `lowest`: their
+    // planes cannot rise above it within the wedge, or (φ_max < 0) they are flatter than the
+    // steepest allowed rays, so no allowed ray lies in them.
+    bool dismiss(int line, int lo, int hi, int k, double lowest, double tanPhi) const {
+        float g = 0.0f;
+        const double z = reach(line, lo, hi, k, g);
+        return z <= lowest || double(g) < -tanPhi;
+    }
+
+    // The cell's bound on |∇| (level 0).
+    float cellSlope(int line, int p) const {
         line = m_repeat ? wrap(line, m_lines) : line + 1;
-        float z = -kInfinity, g = 0.0f;
+        p = m_repeat ? wrap(p, m_length) : p + 1;
+        return m_g[0][at(0, line, p)];
+    }
+
+private:
+    double reach(int line, int lo, int hi, int k, float& g) const {
+        line = m_repeat ? wrap(line, m_lines) : line + 1;
+        float z = -kInfinity;
         if (m_repeat) {
             if (hi - lo + 1 >= m_length) {
                 lo = 0, hi = m_length - 1;
             } else {
-                lo = wrap(lo, m_length), hi = lo + (hi - lo);
+                const int span = hi - lo;
+                lo = wrap(lo, m_length);
+                hi = lo + span;
             }
         } else {
             lo += 1, hi += 1;
@@ -241,7 +260,6 @@ public:
         return double(z) + double(g) * (double(k) + 2.5);
     }
 
-private:
     static constexpr int kShift[3] = {0, 4, 8};
     size_t blocks(int l) const {
         return size_t(m_lines) * size_t(((m_length - 1) >> kShift[l]) + 1);
@@ -286,7 +304,7 @@ struct Bounds {
 };
 
 int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDistance,
-              const Bounds* bounds) {
+              const Bounds* bounds, int firstColumn = 0) {
     const Frame f{cls};
     const SegmentHeights seg = segmentHeights(s, f, i, j);
     const double lowest = std::min({seg.lo, seg.mid, seg.hi});
@@ -295,15 +313,15 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
     const int cross = crossCount(s, cls);
     const CellBounds* cells = bounds ? (cls < kYPlus ? bounds->alongY : bounds->alongX) : nullptr;
     std::array<LocalTriangle, 2> tris;
-    for (int k = 0; k < maxDistance && k <= ahead; ++k) {
+    for (int k = firstColumn; k < maxDistance && k <= ahead; ++k) {
         int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
         if (clamp) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
         int line, unused;
         f.worldCell(seg.a0 + k, 0, line, unused);
         if (cls >= kYPlus) f.worldCell(seg.a0 + k, 0, unused, line);
-        if (cells && cells->reach(line, b0, b1, k) <= lowest) continue;  // whole column
+        if (cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi)) continue;  // whole column
         for (int bc = b0; bc <= b1; ++bc) {
-            if (cells && cells->reach(line, bc, bc, k) <= lowest) continue;
+            if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) continue;
             int ci, cj;
             f.worldCell(seg.a0 + k, bc, ci, cj);
             if (!cellTriangles(s, f, ci, cj, tris)) continue;
@@ -311,6 +329,66 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
         }
     }
     return maxDistance;
+}
+
+
+// With φ_max < 0 a triangle flatter than the steepest allowed ray holds no allowed ray, so it
+// cannot be limiting. The first wedge column holding a steeper cell follows a recurrence (the
+// wedge of τ beyond column 0 is the union of its three successors' wedges):
+// F(τ) = 0 if column 0 of τ's wedge holds one, else 1 + min over the successors. In repeat mode
+// the sweep goes round twice and the result is capped at the period (exact below it).
+std::vector<uint16_t> firstSteepColumns(const Surface& s, const CellBounds& cells, int cls,
+                                        double tanPhi, int cap) {
+    const int w = s.width(), h = s.height();
+    const bool repeat = s.edge() == EdgeMode::Repeat;
+    const bool xClass = cls < kYPlus;
+    const int lenA = xClass ? w : h, lenB = xClass ? h : w;
+    const bool forward = cls == kXPlus || cls == kYPlus;  // local a grows with the index
+    const Frame f{cls};
+    std::vector<uint16_t> first(size_t(w) * size_t(h), uint16_t(cap));
+    auto index = [&](int a, int b) {  // a, b: world indices along / across the class axis
+        return xClass ? size_t(b) * size_t(w) + size_t(a) : size_t(a) * size_t(w) + size_t(b);
+    };
+    std::vector<uint8_t> steep(size_t(w) * size_t(h));
+    for (int a = 0; a < lenA; ++a)
+        for (int b = 0; b < lenB; ++b) {
+            int a0, b0;
+            f.texel(xClass ? a : b, xClass ? b : a, a0, b0);
+            bool any = false;
+            for (int bc = b0 - 2; bc <= b0 + 1 && !any; ++bc) {
+                if (!repeat && (bc < -1 || bc > lenB - 1)) continue;
+                int ci, cj;
+                f.worldCell(a0, bc, ci, cj);
+                if (!repeat && (ci < -1 || ci > w - 1 || cj < -1 || cj > h - 1)) continue;
+                const float g = xClass ? cells.cellSlope(ci, cj) : cells.cellSlope(cj, ci);
+                any = double(g) >= -tanPhi;
+            }
+            steep[index(a, b)] = any;
+        }
+    const int passes = repeat ? 2 : 1;
+    for (int step = 0; step < passes * lenA; ++step) {
+        const int a = forward ? lenA - 1 - step % lenA : step % lenA;
+        const int next = forward ? a + 1 : a - 1;
+        const bool hasNext = repeat || (next >= 0 && next < lenA);
+        for (int b = 0; b < lenB; ++b) {
+            int best = cap;
+            if (steep[index(a, b)]) {
+                best = 0;
+            } else if (hasNext) {
+                const int na = (next + lenA) % lenA;
+                for (int db = -1; db <= 1; ++db) {
+                    int nb = b + db;
+                    if (repeat) nb = (nb + lenB) % lenB;
+                    else if (nb < 0 || nb >= lenB) continue;
+                    best = std::min(best, int(first[index(na, nb)]) + 1);
+                }
+            }
+            first[index(a, b)] = uint16_t(std::min(best, cap));
+        }
+    }
+    if (repeat)
+        for (uint16_t& v : first) v = uint16_t(std::min<int>(v, lenA));
+    return first;
 }
 
 }  // namespace
@@ -329,12 +407,20 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
     const Bounds bounds{&alongY, &alongX};
     DistanceMap map{w, h, kClassCount, {}};
     map.r.resize(size_t(kClassCount) * size_t(w) * size_t(h));
+    std::vector<uint16_t> firstColumns[kClassCount];
+    if (tanPhi < 0.0)
+        for (int c = 0; c < kClassCount; ++c)
+            firstColumns[c] = firstSteepColumns(s, c < kYPlus ? alongY : alongX, c, tanPhi,
+                                                maxDistance);
     parallelRanges(int64_t(kClassCount) * h, 1, [&](int64_t begin, int64_t end) {
         for (int64_t row = begin; row < end; ++row) {
             const int cls = int(row / h), j = int(row % h);
             uint16_t* out = &map.r[size_t(row) * size_t(w)];
+            const uint16_t* start =
+                firstColumns[cls].empty() ? nullptr : &firstColumns[cls][size_t(j) * size_t(w)];
             for (int i = 0; i < w; ++i)
-                out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds));
+                out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds,
+                                            start ? start[i] : 0));
         }
     });
     if (!options.isotropic) return map;

@@ -293,15 +293,16 @@ Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
             setHit(ray, w.tOf(n), hit);  // approximate: the cursor
             return hit;
         }
-        ++hit.steps;
         const int step = fetchStep(w, n, hit);
-        if (step == 0) {  // the naive step, with the other family's crossing tested exactly
+        if (step == 0) {  // the naive step (its cells are its steps), the other family's
+                          // crossing tested exactly
             if (m_options.viewDependent ? linearHit(w, n, n + 1, hit)
                                         : cellsHit(ray, w.tOf(n), w.tOf(n + 1), false, hit))
                 return hit;
             ++n;
             continue;
         }
+        ++hit.steps;
         const int m = int(std::min<int64_t>(int64_t(n) + step, w.count));
         if (aboveAt(w, m, hit) > m_margin) {
             n = m;

@@ -96,7 +96,7 @@ inline int transitions(const Surface& s, const dvec3& o, const dvec3& d, double 
 }
 
 struct Tally {
-    size_t rays = 0, wrong = 0, beyond = 0, both = 0;
+    size_t rays = 0, wrong = 0, beyond = 0, both = 0, far = 0;  // far: |dt| > 0.5 (DESIGN §8)
     double maxError = 0.0, sumError = 0.0;
     void add(const Hit& h, const Hit& ref) {
         ++rays;
@@ -110,9 +110,10 @@ struct Tally {
         sumError += e;
         maxError = std::max(maxError, e);
         if (e > 1e-3) ++beyond;
+        if (e > 0.5) ++far;
     }
     void add(const Tally& o) {
-        rays += o.rays, wrong += o.wrong, beyond += o.beyond, both += o.both;
+        rays += o.rays, wrong += o.wrong, beyond += o.beyond, both += o.both, far += o.far;
         sumError += o.sumError, maxError = std::max(maxError, o.maxError);
     }
     double meanError() const { return both ? sumError / double(both) : 0.0; }
@@ -154,9 +155,10 @@ inline TechniqueInput inputFor(std::shared_ptr<const Surface> s,
     return TechniqueInput{std::move(s), std::move(values), nullptr};
 }
 
-// Traces all standard cases' random and adversarial rays (≥ 1e5 in all) and tallies them.
+// Traces all standard cases' random and adversarial rays (≥ 1e5 in all) and tallies them;
+// exact: fail on any difference beyond the contract.
 template <class Make>
-Tally contractOnAllMaps(Make make, int perKind, const char* label) {
+Tally contractOnAllMaps(Make make, int perKind, const char* label, bool exact = true) {
     Tally all;
     uint32_t seed = 7;
     for (const MapCase& c : standardCases()) {
@@ -164,15 +166,15 @@ Tally contractOnAllMaps(Make make, int perKind, const char* label) {
         const auto tracer = make(s);
         ::relief::testing::RaySets sets(*s, seed++);
         const Tally t = tally(tracer, *s, sets.all(perKind));
-        if (t.wrong || t.beyond)
+        if (exact && (t.wrong || t.beyond))
             ADD_FAILURE() << label << ": " << t.wrong << " wrong hit/miss, " << t.beyond
                           << " beyond 1e-3 on " << c.generator << " " << c.width << "x"
                           << c.height << " " << toString(c.edge);
         all.add(t);
     }
-    std::printf("[ safety   ] %-34s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, mean |dt| "
-                "%.3g, max |dt| %.3g\n",
-                label, all.rays, all.wrong, all.beyond, all.meanError(), all.maxError);
+    std::printf("[ safety   ] %-34s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, |dt|>0.5 %zu, "
+                "mean |dt| %.3g, max |dt| %.3g\n",
+                label, all.rays, all.wrong, all.beyond, all.far, all.meanError(), all.maxError);
     return all;
 }
 

@@ -66,9 +66,8 @@ Tally shadowRays(Make make, const char* label) {
             EXPECT_EQ(t.wrong, 0u) << label << " " << gen << " " << toString(edge);
             all.add(t);
         }
-    size_t occluded = 0;
-    std::printf("[ safety   ] %s shadow rays %zu, hit/miss differs %zu, both occluded %zu\n", label,
-                all.rays, all.wrong, all.both + occluded);
+    std::printf("[ safety   ] %s shadow rays %zu, hit/miss differs %zu, occluded %zu\n", label,
+                all.rays, all.wrong, all.both);
     return all;
 }
 
@@ -83,9 +82,10 @@ TEST(SafetySd, ApproximateVariantsMeasured) {
     for (const char* name : {"view-dependent", "positive-distance"}) {
         const Tally t = contractOnAllMaps(sdMaker({{name, 1}}), 1200,
                                           name[0] == 'v' ? "safety-sd view-dependent (approx.)"
-                                                         : "safety-sd positive-distance (approx.)");
+                                                         : "safety-sd positive-distance (approx.)",
+                                          false);
         ::testing::Test::RecordProperty(name, std::to_string(t.wrong));
-        EXPECT_LT(double(t.wrong), 0.05 * double(t.rays)) << name;
+        EXPECT_LT(double(t.wrong + t.far), 0.05 * double(t.rays)) << name;
     }
 }
 
@@ -115,18 +115,26 @@ TEST(SafetySd, BakedMapsRoundTrip) {
     EXPECT_FALSE(makeSafetySdTracer(fromMaps).ok());
 }
 
-TEST(SafetySd, FewerStepsThanTheReference) {
+// With all rays allowed, fbm at this depth leaves mostly r = 0 (the walk is then about the
+// naive one); restricted to steep views (φ_max = −45°) the distances grow and steps drop.
+TEST(SafetySd, FewerStepsThanTheReferenceWithinPhiMax) {
     auto s = makeSurface("fbm", 256, 256, EdgeMode::Clamp, 0.1f);
-    const SafetySdTracer tracer = *makeSafetySdTracer(inputFor(s, {}, kSafetySdParams));
+    const SafetySdTracer all = *makeSafetySdTracer(inputFor(s, {}, kSafetySdParams));
+    const SafetySdTracer steep = *makeSafetySdTracer(inputFor(s, {{"phi-max", -45}}, kSafetySdParams));
     const ExactTracer exact(s);
     ::relief::testing::RaySets sets(*s, 4);
-    size_t steps = 0, reference = 0;
-    for (const Ray& r : sets.fromOutside(2000)) {
-        steps += size_t(tracer.trace(r).steps);
+    size_t steps = 0, stepsAll = 0, reference = 0, rays = 0;
+    for (const Ray& r : sets.fromOutside(4000)) {
+        if (!safety::rayWithinPhiMax(r.direction, safety::tanPhiMax(-45))) continue;
+        steps += size_t(steep.trace(r).steps);
+        stepsAll += size_t(all.trace(r).steps);
         reference += size_t(exact.trace(r).steps);
+        ++rays;
     }
-    std::printf("[ safety   ] fbm 256^2: safety-sd %.1f steps/ray, exact %.1f\n", steps / 2000.0,
-                reference / 2000.0);
+    std::printf("[ safety   ] fbm 256^2, %zu steep rays: safety-sd %.1f steps/ray (phi-max -45), "
+                "%.1f (all rays), exact %.1f\n", rays, double(steps) / rays,
+                double(stepsAll) / rays, double(reference) / rays);
+    EXPECT_EQ(steep.fallbacks(), 0u);
     EXPECT_LT(steps, reference);
 }
 
