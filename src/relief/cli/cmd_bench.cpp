@@ -178,9 +178,8 @@ private:
             const std::string base = m_o.outDir + "/" + row.images;
             Shading shading;
             orFail(writePng(base + ".png", render(surface, camera, *built.tracer, shading).color));
-            orFail(writePng(base + "-steps.png", heatmap(stepValues(hits), float(row.stats.steps.max), row.technique + " steps")));
-            orFail(writePng(base + "-error.png", heatmap(errorValues(hits, reference),
-                                                          std::max(1e-3f, float(row.stats.error.p99)), row.technique + " |t-t_ref|")));
+            orFail(writePng(base + "-steps.png", stepsHeatmap(hits, row.stats, row.technique)));
+            orFail(writePng(base + "-error.png", errorHeatmap(hits, reference, row.stats, row.technique)));
         }
         m_rows.push_back(std::move(row));
     }
@@ -384,14 +383,7 @@ private:
     }
 
     void writeFile(const std::string& name, const std::string& text) const {
-        const std::string path = m_o.outDir + "/" + name;
-        orFail(writeAtomically(path, [&](const std::string& temp) -> Status {
-            std::ofstream out(temp, std::ios::binary);
-            out << text;
-            out.close();
-            if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
-            return {};
-        }));
+        orFail(writeTextFile(m_o.outDir + "/" + name, text));
     }
 
     static std::string machineName() {

@@ -71,14 +71,9 @@ void writeOutputs(const RenderOptions& o, const TechniqueRun& run, const Image<H
                   const std::string& errorPath) {
     if (!colorPath.empty()) orFail(writePng(colorPath, run.result.color));
     if (!o.depthOut.empty()) orFail(writeExr(o.depthOut, depthValues(run.result.hits)));
-    if (!stepsPath.empty())
-        orFail(writePng(stepsPath, heatmap(stepValues(run.result.hits), float(run.stats.steps.max),
-                                           run.name + " steps")));
-    if (!errorPath.empty()) {
-        const float scale = std::max(1e-3f, float(run.stats.error.p99));
-        orFail(writePng(errorPath, heatmap(errorValues(run.result.hits, reference), scale,
-                                           run.name + " |t-t_ref|")));
-    }
+    if (!stepsPath.empty()) orFail(writePng(stepsPath, stepsHeatmap(run.result.hits, run.stats, run.name)));
+    if (!errorPath.empty())
+        orFail(writePng(errorPath, errorHeatmap(run.result.hits, reference, run.stats, run.name)));
 }
 
 void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs, std::ostream& out) {
@@ -111,16 +106,6 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
                                            : fmt::format("{:.1f}", 1000.0 * r.result.seconds));
 }
 
-void writeText(const std::string& path, const std::string& text) {
-    orFail(writeAtomically(path, [&](const std::string& temp) -> Status {
-        std::ofstream out(temp, std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
-        return {};
-    }));
-}
-
 // summary.md and summary.json beside the images, so a render folder explains itself.
 void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& runs) {
     for (const char* format : {"text", "json"}) {
@@ -133,7 +118,7 @@ void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& 
                                 o.surface.source, o.view.elevationDeg, o.view.azimuthDeg,
                                 o.view.distance, o.view.fovDeg, o.size);
         printSummary(as, runs, text);
-        writeText(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str());
+        orFail(writeTextFile(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str()));
     }
 }
 

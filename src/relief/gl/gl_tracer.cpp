@@ -59,16 +59,30 @@ public:
                              "technique '{}' has no GLSL tracer (its registry row has no glsl)",
                              info.name);
         if (!input.surface) return makeError(ErrorKind::BadArgument, "GL backend: no surface");
-        // The CPU factory validates the parameters exactly as the CPU backend does.
-        auto cpu = info.create(input);
+        // Maps: the baked ones, else built now (once: the CPU factory below takes them too).
+        auto tracer = std::unique_ptr<GlTracer>(new GlTracer());
+        const TechniqueMaps* maps = nullptr;
+        if (input.maps) {
+            tracer->m_ownMaps = *input.maps;  // the camera program may be compiled later
+            maps = &tracer->m_ownMaps;
+        } else if (info.buildMaps) {
+            auto built = info.buildMaps(input);
+            if (!built) return built.error();
+            tracer->m_ownMaps = std::move(*built);
+            maps = &tracer->m_ownMaps;
+        }
+        // The CPU factory validates the parameters (and the maps) exactly as the CPU backend does.
+        TechniqueInput checked = input;
+        checked.maps = maps;
+        auto cpu = info.create(checked);
         if (!cpu) return cpu.error();
         auto uniforms = traceUniforms(info, input.params);
         if (!uniforms) return uniforms.error();
         auto context = EglContext::shared();
         if (!context) return context.error();
 
-        auto tracer = std::unique_ptr<GlTracer>(new GlTracer());
         tracer->m_context = *context;
+        tracer->m_maps = maps;
         tracer->m_surface = input.surface;
         tracer->m_info = &info;
         tracer->m_traceUniforms = *uniforms;
@@ -82,6 +96,16 @@ public:
                              "storage block limit of {} bytes",
                              heights.size_bytes(), maxBlock);
         tracer->m_heights.upload(heights.data(), heights.size_bytes(), GL_STATIC_DRAW);
+        if (maps) {
+            const std::vector<float> packed = packMaps(*maps);
+            if (int64_t(packed.size() * sizeof(float)) > maxBlock)
+                return makeError(ErrorKind::Unsupported,
+                                 "GL backend: the maps of '{}' are {} bytes, over this GL's "
+                                 "storage block limit of {} bytes",
+                                 info.name, packed.size() * sizeof(float), maxBlock);
+            tracer->m_mapData.upload(packed.data(), packed.size() * sizeof(float),
+                                     GL_STATIC_DRAW);
+        }
         uploadBlock(tracer->m_surfaceUbo, surfaceUniforms(*input.surface));
         if (rayProgram) {
             auto program = tracer->compile("main_rays.glsl");
@@ -99,6 +123,7 @@ public:
         m_rayProgram.reset();
         m_cameraProgram.reset();
         m_heights = {};
+        m_mapData = {};
         m_surfaceUbo = {};
         m_traceUbo = {};
         m_cameraUbo = {};
@@ -177,7 +202,7 @@ private:
                               {"common_types.glsl", "common_surface.glsl",
                                "common_cell_intersect.glsl", "common_camera.glsl", m_info->glsl,
                                entry},
-                              m_info);
+                              m_info, m_maps);
     }
 
     void bindBuffers() const {
@@ -186,6 +211,7 @@ private:
         glBindBufferBase(GL_UNIFORM_BUFFER, kCameraBinding, m_cameraUbo.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightsBinding, m_heights.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHitsBinding, m_hits.id());
+        if (m_maps) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMapsBinding, m_mapData.id());
     }
 
     Status prepareCamera(const GlCamera& camera) {
@@ -223,9 +249,12 @@ private:
     std::shared_ptr<const Surface> m_surface;
     const TechniqueInfo* m_info = nullptr;
     TraceUniforms m_traceUniforms;
+    // The maps in use (&m_ownMaps: a copy of input.maps or the ones built), null for none.
+    const TechniqueMaps* m_maps = nullptr;
+    TechniqueMaps m_ownMaps;
     GlProgram m_rayProgram, m_cameraProgram;
     // Mutable: traceBatch is const, and every use holds the context's Scope (its mutex).
-    mutable GlBuffer m_heights, m_surfaceUbo, m_traceUbo, m_cameraUbo, m_rays, m_hits;
+    mutable GlBuffer m_heights, m_mapData, m_surfaceUbo, m_traceUbo, m_cameraUbo, m_rays, m_hits;
     mutable std::vector<RayRecord> m_rayRecords;
     mutable std::vector<HitRecord> m_hitRecords;
 };

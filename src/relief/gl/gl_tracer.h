@@ -8,8 +8,11 @@
 // main_camera.glsl for camera frames whose rays are made on the GPU). The heights are
 // Surface::paddedHeights() in a storage buffer, so the GPU reads the same numbers as the CPU.
 //
-// Maps: techniques that need maps are not supported yet (their GLSL would need the maps bound);
-// the three current rows need none.
+// Maps: a technique with maps (TechniqueInfo::buildMaps) gets input.maps when given, else the
+// maps built once by info.buildMaps (and handed to info.create too). Every MapArray goes into
+// one storage buffer at kMapsBinding, and the GLSL reads them through declarations generated
+// from the TechniqueMaps themselves (shader_interface.h: kMap<Name>, mapTexel, sizes, channels),
+// so a map's layout is spelled only by the C++ that builds it.
 #include <relief/gl/camera.h>
 #include <relief/techniques/technique.h>
 

@@ -60,10 +60,11 @@ struct Part {
 
 // #version, the interface as source string 0, then each file as source string 1, 2, ...
 Result<std::vector<Part>> assemble(std::initializer_list<std::string_view> files,
-                                   const TechniqueInfo* technique, std::string_view extra = {}) {
+                                   const TechniqueInfo* technique, std::string_view extra = {},
+                                   const TechniqueMaps* maps = nullptr) {
     std::vector<Part> parts;
     parts.push_back({"<generated interface>",
-                     "#version 450 core\n#line 1 0\n" + glslInterface(technique)});
+                     "#version 450 core\n#line 1 0\n" + glslInterface(technique, maps)});
     for (std::string_view path : files) {
         const std::string_view source = shaderSource(path);
         if (source.empty())
@@ -162,8 +163,8 @@ Result<GlProgram> link(std::string_view label, std::initializer_list<GLuint> sha
 
 Result<GlProgram> computeProgram(std::string_view label,
                                  std::initializer_list<std::string_view> files,
-                                 const TechniqueInfo* technique) {
-    auto parts = assemble(files, technique);
+                                 const TechniqueInfo* technique, const TechniqueMaps* maps) {
+    auto parts = assemble(files, technique, {}, maps);
     if (!parts) return parts.error();
     auto shader = compile(GL_COMPUTE_SHADER, label, *parts);
     if (!shader) return shader.error();

@@ -75,10 +75,12 @@ void uploadBlock(GlBuffer& buffer, const Block& block) {
 }
 
 // Compiles and links a compute program from `files` (paths as in shaderSource), after the
-// generated interface for `technique` (its kParam<Name> constants), or none.
+// generated interface for `technique` (its kParam<Name> constants) and its `maps` (the map
+// declarations of shader_interface.h), or none.
 Result<GlProgram> computeProgram(std::string_view label,
                                  std::initializer_list<std::string_view> files,
-                                 const TechniqueInfo* technique = nullptr);
+                                 const TechniqueInfo* technique = nullptr,
+                                 const TechniqueMaps* maps = nullptr);
 
 // Same, for a vertex + fragment pair.
 Result<GlProgram> graphicsProgram(std::string_view label,

@@ -7,6 +7,7 @@
 #include <relief/techniques/technique.h>
 
 #include <string>
+#include <vector>
 
 namespace relief::gl {
 
@@ -18,6 +19,7 @@ inline constexpr int kMeshBinding = 3;     // uniform MeshUniforms
 inline constexpr int kRaysBinding = 0;     // buffer Rays { RayRecord rays[]; }
 inline constexpr int kHitsBinding = 1;     // buffer Hits { HitRecord hits[]; }
 inline constexpr int kHeightsBinding = 2;  // buffer Heights { float heights[]; } (padded)
+inline constexpr int kMapsBinding = 3;     // buffer Maps { float maps[]; } (every MapArray)
 
 inline constexpr int kLocalSize = 64;  // invocations per work group, ray batches
 inline constexpr int kTileSize = 8;    // work group side, camera frames (8×8)
@@ -99,8 +101,34 @@ Result<TraceUniforms> traceUniforms(const TechniqueInfo& info, const ParamValues
 // "max-steps" → "kParamMaxSteps": the GLSL name of a parameter's index.
 std::string glslParamName(std::string_view paramName);
 
+// ---- Maps (TechniqueMaps) ----
+// All arrays of a technique's maps live in ONE storage buffer (binding kMapsBinding), one after
+// the other in natural name order ("level2" before "level10"), each row-major with its channels
+// interleaved, exactly MapArray::data. One buffer rather than one per array: the walks pick an
+// array at run time (a pyramid level, a ray class), which one buffer makes a table lookup instead
+// of a switch over blocks, and a deep pyramid would exceed the 16 storage blocks per stage that
+// some drivers allow. The GLSL side is generated (glslMapInterface): per array `kMap<Name>` (its
+// index; "level0" → kMapLevel0, "ccx+" → kMapCcxPlus) and `#define RELIEF_MAP_<NAME>` (to test
+// for an optional array), tables kMapOffset / kMapWidth / kMapHeight / kMapChannels, the
+// accessor `mapTexel(map, x, y, channel)`, and one `kMapParam<Name>` per numeric map parameter
+// ("cone-max" → kMapParamConeMax).
+
+// "ccx+" → "CcxPlus", "level0" → "Level0": the GLSL spelling of an array or parameter name.
+std::string glslMapName(std::string_view name);
+
+// The arrays in buffer order (natural name order).
+std::vector<const MapArray*> mapOrder(const TechniqueMaps& maps);
+
+// The buffer contents: the arrays of mapOrder concatenated.
+std::vector<float> packMaps(const TechniqueMaps& maps);
+
+// The GLSL declarations described above ("const int kMapCount = 0;" when there are none).
+std::string glslMapInterface(const TechniqueMaps* maps);
+
 // The GLSL text every program starts with (after #version): constants, the records and the
-// uniform blocks. With `info`, also one `const int kParam<Name> = index;` per parameter.
-std::string glslInterface(const TechniqueInfo* info = nullptr);
+// uniform blocks. With `info`, also one `const int kParam<Name> = index;` per parameter; with
+// `maps`, the map declarations (glslMapInterface).
+std::string glslInterface(const TechniqueInfo* info = nullptr,
+                          const TechniqueMaps* maps = nullptr);
 
 }  // namespace relief::gl

@@ -7,11 +7,64 @@
 #include <png.h>
 #include <unistd.h>
 
+#include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <random>
 
 namespace relief {
+
+namespace {
+
+// Temp files being written right now, so SIGINT / SIGTERM can remove them (unlink is
+// async-signal-safe) and leave no partial output behind.
+constexpr int kTempSlots = 64;
+std::atomic<const char*> gTempFiles[kTempSlots];
+
+extern "C" void removeTempFilesAndExit(int signal) {
+    for (auto& slot : gTempFiles)
+        if (const char* path = slot.load()) ::unlink(path);
+    ::signal(signal, SIG_DFL);
+    ::raise(signal);
+}
+
+void installSignalCleanup() {
+    static const bool installed = [] {
+        struct sigaction action {};
+        action.sa_handler = removeTempFilesAndExit;
+        sigemptyset(&action.sa_mask);
+        sigaction(SIGINT, &action, nullptr);
+        sigaction(SIGTERM, &action, nullptr);
+        return true;
+    }();
+    (void)installed;
+}
+
+// Registers a temp path for the signal handler while alive.
+class TempFileGuard {
+public:
+    explicit TempFileGuard(const std::string& path) : m_path(path) {
+        installSignalCleanup();
+        for (auto& slot : gTempFiles) {
+            const char* expected = nullptr;
+            if (slot.compare_exchange_strong(expected, m_path.c_str())) {
+                m_slot = &slot;
+                break;
+            }
+        }
+    }
+    ~TempFileGuard() {
+        if (m_slot) m_slot->store(nullptr);
+    }
+
+private:
+    std::string m_path;
+    std::atomic<const char*>* m_slot = nullptr;
+};
+
+}  // namespace
 
 Status writeAtomically(const std::string& path,
                        const std::function<Status(const std::string& tempPath)>& write) {
@@ -25,6 +78,7 @@ Status writeAtomically(const std::string& path,
                                         std::to_string(::getpid()) + "." +
                                         std::to_string(std::random_device{}())))
                                  .string();
+    const TempFileGuard guard(temp);
     Status status = write(temp);
     if (status) {
         fs::rename(temp, target, ec);
@@ -32,6 +86,16 @@ Status writeAtomically(const std::string& path,
     }
     if (!status) fs::remove(temp, ec);
     return status;
+}
+
+Status writeTextFile(const std::string& path, const std::string& text) {
+    return writeAtomically(path, [&](const std::string& temp) -> Status {
+        std::ofstream out(temp, std::ios::binary);
+        out << text;
+        out.close();
+        if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
+        return {};
+    });
 }
 
 Status writePng(const std::string& path, const ImageRgb8& image) {

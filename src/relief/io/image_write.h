@@ -12,6 +12,9 @@ namespace relief {
 Status writePng(const std::string& path, const ImageRgb8& image);
 Status writeExr(const std::string& path, const ImageF& image);  // one float channel "Y"
 
+// Writes `text` to path through a temporary file.
+Status writeTextFile(const std::string& path, const std::string& text);
+
 // Runs `write(tempPath)` then renames tempPath to path; removes the temp file on failure.
 Status writeAtomically(const std::string& path,
                        const std::function<Status(const std::string& tempPath)>& write);

@@ -97,13 +97,7 @@ Status writeHits(const std::string& path, const std::vector<Hit>& hits) {
         std::fwrite(text.data(), 1, text.size(), stdout);
         return {};
     }
-    return writeAtomically(path, [&](const std::string& temp) -> Status {
-        std::ofstream out(temp, std::ios::binary);
-        out << text;
-        out.close();
-        if (!out) return makeError(ErrorKind::Io, "{}: write failed", path);
-        return {};
-    });
+    return writeTextFile(path, text);
 }
 
 }  // namespace relief

@@ -117,4 +117,14 @@ ImageRgb8 heatmap(const ImageF& values, float scaleMax, std::string_view title) 
     return out;
 }
 
+ImageRgb8 stepsHeatmap(const Image<Hit>& hits, const ErrorStats& stats, std::string_view name) {
+    return heatmap(stepValues(hits), float(stats.steps.max), fmt::format("{} steps", name));
+}
+
+ImageRgb8 errorHeatmap(const Image<Hit>& hits, const Image<Hit>& reference,
+                       const ErrorStats& stats, std::string_view name) {
+    return heatmap(errorValues(hits, reference), std::max(1e-3f, float(stats.error.p99)),
+                   fmt::format("{} |t-t_ref|", name));
+}
+
 }  // namespace relief

@@ -32,4 +32,10 @@ ImageF depthValues(const Image<Hit>& hits);  // t, +inf where missed
 // with `title` and its scale. NaN pixels are background, +inf pixels magenta (flagged).
 ImageRgb8 heatmap(const ImageF& values, float scaleMax, std::string_view title);
 
+// The two diagnostic images of a run: steps per pixel scaled to the run's maximum, and
+// |t − t_ref| scaled to its 99th percentile (at least 1e-3 texel), wrong pixels magenta.
+ImageRgb8 stepsHeatmap(const Image<Hit>& hits, const ErrorStats& stats, std::string_view name);
+ImageRgb8 errorHeatmap(const Image<Hit>& hits, const Image<Hit>& reference,
+                       const ErrorStats& stats, std::string_view name);
+
 }  // namespace relief

@@ -43,11 +43,7 @@ struct WalkRay {
     float invX, invY, invZ;
     int stepX, stepY;
     float tEnter, tExit;
-    // Node sides, branch-free: t = (float(edge) - sideX) · sideInvX, with sideX = o.x - 0.5 and
-    // sideInvX = invX (sideX = -inf and sideInvX = 1 when d.x = 0, so that t = +inf);
-    // exitMaskX picks the high side (-1) or the low side (0) of a node.
-    float sideX, sideY, sideInvX, sideInvY;
-    int exitMaskX, exitMaskY;
+    int exitMaskX, exitMaskY;  // a node's exit side: high (-1) or low (0)
     // Height tolerance of the bound tests: the float error of the ray's z and of S's planes, so
     // that no node is skipped where the reference's cell test could still report a hit.
     float slack;
@@ -95,10 +91,6 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
             d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0),
             span.tEnter,
             span.tExit,
-            d.x != 0.0f ? o.x - 0.5f : -kInfinity,
-            d.y != 0.0f ? o.y - 0.5f : -kInfinity,
-            d.x != 0.0f ? 1.0f / d.x : 1.0f,
-            d.y != 0.0f ? 1.0f / d.y : 1.0f,
             d.x > 0.0f ? -1 : 0,
             d.y > 0.0f ? -1 : 0,
             kWalkSlack * extent,
@@ -145,12 +137,13 @@ inline NodeBox nodeBox(const PyramidLayout& layout, const WalkCursor& c) {
     return b;
 }
 
-// Node sides (the cell test recomputes its own ends with the reference's formula).
+// Node sides, crossed at the reference's own t (every decision of the walk is taken in the
+// reference's t: float positions near a cell edge can round to the wrong side).
 inline NodeExit nodeExit(const WalkRay& r, const NodeBox& b, const WalkCursor& c) {
     const int edgeX = c.baseX + b.loX + ((b.hiX - b.loX) & r.exitMaskX);
     const int edgeY = c.baseY + b.loY + ((b.hiY - b.loY) & r.exitMaskY);
-    const float tx = (float(edgeX) - r.sideX) * r.sideInvX;
-    const float ty = (float(edgeY) - r.sideY) * r.sideInvY;
+    const float tx = r.stepX != 0 ? boundaryT(edgeX, r.o.x, r.invX) : kInfinity;
+    const float ty = r.stepY != 0 ? boundaryT(edgeY, r.o.y, r.invY) : kInfinity;
     return {tx, ty, std::max(c.t, std::min({tx, ty, r.tExit}))};
 }
 
@@ -222,10 +215,15 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
 
-// Index of the child half (low or high) holding coordinate x, clamped to the existing cells (a
-// truncated node's nominal high half may not exist; float error at its edge may point there).
-inline int childIndex(float x, int base, int lo, int half, int cells) {
-    const bool high = x >= float(base + lo + half) + 0.5f;
+// Index of the child half (low or high) that holds the ray at t along one axis: decided by when
+// the ray crosses the middle (the reference's t), clamped to the existing cells (a truncated
+// node's nominal high half may not exist).
+inline int childIndex(float t, float origin, float inverse, int step, int base, int lo, int half,
+                      int cells) {
+    const int middle = base + lo + half;
+    const bool high = step > 0   ? t >= boundaryT(middle, origin, inverse)
+                      : step < 0 ? t < boundaryT(middle, origin, inverse)
+                                 : origin >= float(middle) + 0.5f;
     return std::min(lo + (high ? half : 0), cells - 1);
 }
 
@@ -235,8 +233,8 @@ inline void descend(const PyramidLayout& layout, const WalkRay& r, const NodeBox
     c.t = tIn;
     --c.level;
     const int half = 1 << c.level;
-    c.px = childIndex(r.o.x + tIn * r.d.x, c.baseX, b.loX, half, layout.cellsX);
-    c.py = childIndex(r.o.y + tIn * r.d.y, c.baseY, b.loY, half, layout.cellsY);
+    c.px = childIndex(tIn, r.o.x, r.invX, r.stepX, c.baseX, b.loX, half, layout.cellsX);
+    c.py = childIndex(tIn, r.o.y, r.invY, r.stepY, c.baseY, b.loY, half, layout.cellsY);
 }
 
 template <Ascent kAscent>

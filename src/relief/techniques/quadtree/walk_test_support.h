@@ -85,6 +85,7 @@ class RayMaker {
             rays.push_back(shadow());
             rays.push_back(farAway());
             rays.push_back(longTravel());
+            rays.push_back(alongAnEdgeFarAway());
         }
         return rays;
     }
@@ -163,7 +164,24 @@ class RayMaker {
         return make(aboveS(u(0.5f, 1.0f) * m_d), d);
     }
 
-  private:
+      // Nearly parallel to a cell edge and one ulp beside it, where coordinates are large (repeat:
+    // thousands of texels from the origin; clamp: the far side of the map): float positions round
+    // onto the edge while the ray stays on its side for hundreds of texels.
+    Ray alongAnEdgeFarAway() {
+        const bool repeat = m_s.edge() == EdgeMode::Repeat;
+        const float far = repeat ? 4096.0f : 0.0f;
+        const float edge = far + std::floor(u(0.0f, m_h - 1.0f)) + 0.5f;
+        const float side = m_rng() % 2 ? 1.0f : -1.0f;
+        const float y = std::nextafter(edge, edge - side);  // one ulp off the edge
+        const float x = far + u(0.0f, m_w);
+        const float z = m_s.heightAt(x, y) + u(0.0f, 0.3f) * m_d;
+        const float dx = m_rng() % 2 ? 1.0f : -1.0f, dy = side * u(1e-9f, 1e-6f);
+        Ray r = make(vec3(x, y, z), vec3(dx, dy, -u(0.0f, 0.05f)));
+        if (m_rng() % 2) r = make(vec3(y, x, z), vec3(dy, dx, r.direction.z));  // along y
+        return r;
+    }
+
+private:
     float u(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(m_rng); }
     vec3 xy() {
         if (m_s.edge() == EdgeMode::Repeat)
