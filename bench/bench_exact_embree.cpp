@@ -6,11 +6,16 @@
 // Exit codes: 0 ok, 1 bad arguments, 2 a heightfield could not be loaded, 4 exact and Embree
 // disagree on more than 0.1% of the rays of a view, or --judge found exact wrong (a bug, not a
 // timing).
-#include <embree3/rtcore_config.h>
-#include <fmt/format.h>
+#include "bench_common.h"
+// The double-precision oracle and the classification of disagreements the tests use (--judge).
+#include "../tests/brute_force.h"
+
 #include <relief/embree/embree_scene.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/techniques/registry.h>
+
+#include <embree3/rtcore_config.h>
+#include <fmt/format.h>
 
 #include <cfloat>
 #include <cstdio>
@@ -18,10 +23,6 @@
 #include <span>
 #include <string>
 #include <vector>
-
-#include "bench_common.h"
-// The double-precision oracle and the classification of disagreements the tests use (--judge).
-#include "../tests/brute_force.h"
 
 namespace relief {
 namespace {

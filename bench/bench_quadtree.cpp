@@ -284,65 +284,113 @@ std::string scalingTables(const ScalingResult& r, int imageW, int imageH) {
 
 // ---- the SVG plot of (a) ------------------------------------------------------------------
 
-std::string scalingSvg(const ScalingResult& r) {
-    const double w = 760, h = 520, left = 70, right = 190, top = 40, bottom = 60;
-    const double x0 = 16, x1 = 27;                                // log2 p
-    const double y0 = std::log10(2.0), y1 = std::log10(20000.0);  // steps, log scale
-    auto px = [&](double lp) { return left + (lp - x0) / (x1 - x0) * (w - left - right); };
+struct Series {
+    std::string label, color, dash;
+    std::vector<std::pair<double, double>> points;  // (log2 p, steps)
+};
+
+// One panel of the plot: axes, grid, polylines and legend, at horizontal offset x0.
+std::string svgPanel(double x0, const std::string& title, bool logY, double yMax,
+                     const std::vector<Series>& series, bool legendLow) {
+    const double w = 520, h = 430, left = 55, right = 10, top = 50, bottom = 50;
+    const double lp0 = 16, lp1 = 26.5;
+    const double y0 = logY ? std::log10(5.0) : 0.0, y1 = logY ? std::log10(yMax) : yMax;
+    auto px = [&](double lp) { return x0 + left + (lp - lp0) / (lp1 - lp0) * (w - left - right); };
     auto py = [&](double s) {
-        return top + (1.0 - (std::log10(std::max(s, 2.0)) - y0) / (y1 - y0)) * (h - top - bottom);
+        const double v = logY ? std::log10(std::max(s, 5.0)) : s;
+        return top + (1.0 - (v - y0) / (y1 - y0)) * (h - top - bottom);
     };
+    std::string svg =
+        fmt::format("<text x=\"{}\" y=\"30\" font-size=\"14\">{}</text>\n", x0 + left, title);
+    std::vector<double> ticks;
+    if (logY) {
+        for (double t = 5.0; t <= yMax * 1.001; t *= 10.0)
+            for (double m : {1.0, 2.0}) ticks.push_back(t * m);
+    } else {
+        for (double t = 0.0; t <= yMax + 1e-9; t += 5.0) ticks.push_back(t);
+    }
+    for (double t : ticks) {
+        if (t > yMax * 1.001) continue;
+        svg += fmt::format(
+            "<line x1=\"{0:.1f}\" x2=\"{1:.1f}\" y1=\"{2:.1f}\" y2=\"{2:.1f}\" stroke=\"#ddd\"/>"
+            "<text x=\"{3:.1f}\" y=\"{4:.1f}\" text-anchor=\"end\">{5}</text>\n",
+            x0 + left, x0 + w - right, py(t), x0 + left - 5, py(t) + 4, t);
+    }
+    for (int lp = 16; lp <= 26; lp += 2)
+        svg += fmt::format(
+            "<line x1=\"{0:.1f}\" x2=\"{0:.1f}\" y1=\"{1}\" y2=\"{2}\" stroke=\"#eee\"/>"
+            "<text x=\"{0:.1f}\" y=\"{3}\" text-anchor=\"middle\">{4}²</text>\n",
+            px(lp), top, h - bottom, h - bottom + 16, 1 << (lp / 2));
+    svg += fmt::format(
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">map size (log scale: "
+        "log2 p from 16 to 26)</text>\n",
+        x0 + (left + w - right) / 2, h - 12);
+    const double legendX = legendLow ? x0 + w - right - 190 : x0 + left + 10;
+    int labels = 0;
+    for (const Series& s : series) labels += !s.label.empty();
+    double ly = legendLow ? h - bottom - 12 - 16.0 * labels : top + 12;
+    for (const Series& s : series) {
+        std::string points;
+        for (const auto& [lp, steps] : s.points)
+            points += fmt::format("{:.1f},{:.1f} ", px(lp), py(steps));
+        svg += fmt::format(
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\" "
+            "stroke-dasharray=\"{}\"/>\n",
+            points, s.color, s.dash);
+        if (s.label.empty()) continue;
+        svg += fmt::format(
+            "<line x1=\"{0:.1f}\" x2=\"{1:.1f}\" y1=\"{2:.1f}\" y2=\"{2:.1f}\" stroke=\"{3}\" "
+            "stroke-width=\"2\" stroke-dasharray=\"{4}\"/><text x=\"{5:.1f}\" y=\"{6:.1f}\">{7}"
+            "</text>\n",
+            legendX, legendX + 28, ly, s.color, s.dash, legendX + 34, ly + 4, s.label);
+        ly += 16;
+    }
+    return svg;
+}
+
+// Left: mean steps of the hierarchical walks (linear y: a straight line is ∝ log p). Right:
+// 99th percentile at the grazing elevation, with exact (log y: slope 1/2 per log2 p is √p).
+std::string scalingSvg(const ScalingResult& r) {
     const char* colors[] = {"#1f77b4", "#9467bd", "#2ca02c", "#ff7f0e", "#d62728"};
-    const float shown[] = {2.9f, 27.8f, 90.0f};
+    const float elevations[] = {2.9f, 27.8f, 90.0f};
     const char* dashes[] = {"", "8,4", "2,3"};
+    auto points = [&](size_t m, float elevation, bool p99) {
+        std::vector<std::pair<double, double>> pts;
+        for (const StepRow& row : r.rows)
+            if (row.elevation == elevation && row.map.rfind("fbm", 0) == 0)
+                pts.push_back(
+                    {std::log2(double(row.pixels)), p99 ? row.steps[m].p99 : row.steps[m].mean});
+        return pts;
+    };
+    std::vector<Series> means, tails;
+    double meanMax = 10.0, tailMax = 100.0;
+    for (size_t m = 0; m < r.methods.size(); ++m) {
+        const bool exact = r.methods[m] == "exact";
+        for (size_t e = 0; e < std::size(elevations) && !exact; ++e) {
+            Series s{e == 0 ? r.methods[m] : "", colors[m % 5], dashes[e],
+                     points(m, elevations[e], false)};
+            for (const auto& pt : s.points) meanMax = std::max(meanMax, pt.second);
+            means.push_back(std::move(s));
+        }
+        Series tail{r.methods[m], colors[m % 5], "", points(m, elevations[0], true)};
+        for (const auto& pt : tail.points) tailMax = std::max(tailMax, pt.second);
+        tails.push_back(std::move(tail));
+    }
+    const double w = 1060, h = 470;
     std::string svg = fmt::format(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\" "
         "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" "
-        "fill=\"white\"/>\n<text x=\"{}\" y=\"22\" font-size=\"15\">Mean steps per ray vs map "
-        "size (fbm, depth 0.1·size)</text>\n",
-        w, h, left);
-    for (double s : {2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 5000.0,
-                     10000.0, 20000.0})
-        svg += fmt::format(
-            "<line x1=\"{0}\" x2=\"{1}\" y1=\"{2:.1f}\" y2=\"{2:.1f}\" stroke=\"#ddd\"/>"
-            "<text x=\"{3}\" y=\"{4:.1f}\" text-anchor=\"end\">{5}</text>\n",
-            left, w - right, py(s), left - 6, py(s) + 4, s);
-    for (int lp = 16; lp <= 27; ++lp)
-        svg += fmt::format(
-            "<line x1=\"{0:.1f}\" x2=\"{0:.1f}\" y1=\"{1}\" y2=\"{2}\" stroke=\"#eee\"/>"
-            "<text x=\"{0:.1f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
-            px(lp), top, h - bottom, h - bottom + 16, lp);
+        "fill=\"white\"/>\n",
+        w, h);
+    svg += svgPanel(0, "Mean steps per ray (fbm; solid 2.9°, dashed 27.8°, dotted 90°)", false,
+                    5.0 * std::ceil(meanMax / 5.0), means, true);
+    svg += svgPanel(530, "99th percentile of steps at 2.9° (log scale)", true,
+                    std::pow(10.0, std::ceil(std::log10(tailMax))), tails, false);
     svg += fmt::format(
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">log2(pixels)  (256² = 16, 4096² = 24, "
-        "8192² = 26)</text>\n<text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" "
-        "text-anchor=\"middle\">steps per ray (log scale)</text>\n",
-        (left + w - right) / 2, h - 18, (top + h - bottom) / 2, (top + h - bottom) / 2);
-    for (size_t m = 0; m < r.methods.size(); ++m)
-        for (size_t e = 0; e < std::size(shown); ++e) {
-            std::string points;
-            for (const StepRow& row : r.rows)
-                if (row.elevation == shown[e] && row.map.rfind("fbm", 0) == 0)
-                    points += fmt::format("{:.1f},{:.1f} ", px(std::log2(double(row.pixels))),
-                                          py(row.steps[m].mean));
-            svg += fmt::format(
-                "<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"2\" "
-                "stroke-dasharray=\"{}\"/>\n",
-                points, colors[m % 5], dashes[e]);
-        }
-    double ly = top + 10;
-    for (size_t m = 0; m < r.methods.size(); ++m, ly += 18)
-        svg += fmt::format(
-            "<line x1=\"{0}\" x2=\"{1}\" y1=\"{2}\" y2=\"{2}\" stroke=\"{3}\" stroke-width=\"3\"/>"
-            "<text x=\"{4}\" y=\"{5}\">{6}</text>\n",
-            w - right + 12, w - right + 40, ly, colors[m % 5], w - right + 46, ly + 4,
-            r.methods[m]);
-    ly += 10;
-    for (size_t e = 0; e < std::size(shown); ++e, ly += 18)
-        svg += fmt::format(
-            "<line x1=\"{0}\" x2=\"{1}\" y1=\"{2}\" y2=\"{2}\" stroke=\"black\" "
-            "stroke-width=\"2\" stroke-dasharray=\"{3}\"/><text x=\"{4}\" y=\"{5}\">elevation "
-            "{6}°</text>\n",
-            w - right + 12, w - right + 40, ly, dashes[e], w - right + 46, ly + 4, shown[e]);
+        "<text x=\"10\" y=\"{}\" font-size=\"11\" fill=\"#555\">Depth 0.1·size, "
+        "clamp, orbit camera 0.6 box diagonals from the centre, azimuth 30°, fov "
+        "45°; steps = nodes and cells tested (exact: cells).</text>\n",
+        h - 2);
     return svg + "</svg>\n";
 }
 

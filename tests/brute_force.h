@@ -32,7 +32,7 @@ inline bool sameAnswer(bool hitA, double tA, bool hitB, double tB, double tolera
 }
 
 class BruteForceTracer {
-  public:
+public:
     explicit BruteForceTracer(const Surface& surface) {
         RELIEF_CHECK(surface.edge() == EdgeMode::Clamp);
         const TriangleMesh mesh = buildSolidMesh(surface);
@@ -117,7 +117,7 @@ class BruteForceTracer {
         return anyHit && t >= tLo - tolerance && t <= tHi + tolerance;
     }
 
-  private:
+private:
     struct Tri {
         dvec3 a, e1, e2;
     };

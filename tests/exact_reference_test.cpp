@@ -2,12 +2,15 @@
 // over the solid's triangles on small adversarial maps, and against Embree on the same triangles
 // with 10^5+ rays on larger maps. Every disagreement is classified; the kinds that are not
 // `exact`'s fault each have a named test below that shows one and says who is right.
-#include <gtest/gtest.h>
+#include "brute_force.h"
+
 #include <relief/core/generators.h>
 #include <relief/embree/embree_scene.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/techniques/exact/exact.h>
 #include <relief/techniques/registry.h>
+
+#include <gtest/gtest.h>
 
 #include <cfloat>
 #include <cstdio>
@@ -15,8 +18,6 @@
 #include <span>
 #include <string>
 #include <vector>
-
-#include "brute_force.h"
 
 namespace relief {
 namespace {
@@ -63,7 +64,7 @@ std::string describe(const Ray& r) {
 enum class Family { Above, Side, Inside };
 
 class RayMaker {
-  public:
+public:
     RayMaker(const Surface& s, uint64_t seed) : m_s(s), m_rng(seed) {}
 
     float uniform(float lo, float hi) {
@@ -120,13 +121,13 @@ class RayMaker {
         }
     }
 
-  private:
+private:
     const Surface& m_s;
     std::mt19937_64 m_rng;
 };
 
 // ---------------------------------------------------------------------------------------------
-// Task A: exact vs the double-precision brute force on small maps.
+// exact vs the double-precision brute force on small maps.
 
 struct OracleStats {
     int rays = 0, hits = 0;
@@ -401,7 +402,7 @@ TEST(ExactReference, RepeatModeMatchesTiledBruteForce) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Task B: exact vs Embree on the same triangles (clamp mode), intersect1 and intersect16.
+// exact vs Embree on the same triangles (clamp mode), intersect1 and intersect16.
 
 // Every disagreement between exact and Embree, judged by the double-precision brute force
 // (classifyDisagreement in brute_force.h). Kinds:

@@ -7,6 +7,9 @@
 #include <relief/gl/shader_sources.h>
 #include <relief/techniques/registry.h>
 
+#include <algorithm>
+#include <optional>
+
 namespace relief::gl {
 namespace {
 
@@ -25,14 +28,21 @@ TEST(GlShaders, RegistryRowsAndTechniqueShadersMatch) {
         if (info.glsl.empty()) continue;
         EXPECT_FALSE(shaderSource(info.glsl).empty())
             << info.name << ": glsl = \"" << info.glsl << "\" is not embedded";
-        EXPECT_EQ(info.glsl.substr(0, info.name.size() + 1), std::string(info.name) + "/")
+        std::string folder(info.name);  // "safety-sd" lives in safety_sd/
+        std::replace(folder.begin(), folder.end(), '-', '_');
+        EXPECT_EQ(info.glsl.substr(0, folder.size() + 1), folder + "/")
             << info.name << ": its GLSL lives in its own folder";
     }
-    // A technique shader no row points at is a row someone forgot to fill.
+    // A technique shader no row points at (directly or by a `// requires:` line of a row's
+    // file) is a row someone forgot to fill.
     for (const ShaderFile& file : shaderFiles()) {
         if (file.path.find('/') == std::string_view::npos) continue;  // common or entry point
         bool used = false;
-        for (const TechniqueInfo& info : techniques()) used = used || info.glsl == file.path;
+        for (const TechniqueInfo& info : techniques())
+            used = used || info.glsl == file.path ||
+                   (!info.glsl.empty() &&
+                    shaderSource(info.glsl).find("// requires: " + std::string(file.path)) !=
+                        std::string_view::npos);
         EXPECT_TRUE(used) << file.path << " is embedded but no registry row has it as glsl";
     }
 }
@@ -41,14 +51,24 @@ TEST(GlShaders, EveryTechniqueProgramCompiles) {
     RELIEF_REQUIRE_GL();
     auto context = *EglContext::shared();
     EglContext::Scope scope(*context);
+    // Techniques with maps compile against the map declarations of real maps (a small surface).
+    const auto surface = testing::generatedSurface("peaks6", 12, 10, 0.15f, EdgeMode::Clamp, 1);
     for (const TechniqueInfo& info : techniques()) {
         if (info.glsl.empty()) continue;
+        std::optional<TechniqueMaps> maps;
+        if (info.buildMaps) {
+            auto params = resolveParams(info, {});
+            ASSERT_TRUE(params) << params.error().message;
+            auto built = info.buildMaps(TechniqueInput{surface, *params});
+            ASSERT_TRUE(built) << info.name << ": " << built.error().message;
+            maps = std::move(*built);
+        }
         for (std::string_view entry : {"main_rays.glsl", "main_camera.glsl"}) {
             auto program = computeProgram(info.name,
                                           {"common_types.glsl", "common_surface.glsl",
                                            "common_cell_intersect.glsl", "common_camera.glsl",
                                            info.glsl, entry},
-                                          &info);
+                                          &info, maps ? &*maps : nullptr);
             EXPECT_TRUE(program) << program.error().message;
         }
     }

@@ -119,6 +119,7 @@ public:
     }
 
     ~GlTracer() override {
+        if (!m_context) return;  // failed before any GL object was made
         EglContext::Scope scope(*m_context);
         m_rayProgram.reset();
         m_cameraProgram.reset();

@@ -3,6 +3,7 @@
 #include <relief/gl/shader_interface.h>
 #include <relief/gl/shader_sources.h>
 
+#include <algorithm>
 #include <regex>
 
 namespace relief::gl {
@@ -65,7 +66,23 @@ Result<std::vector<Part>> assemble(std::initializer_list<std::string_view> files
     std::vector<Part> parts;
     parts.push_back({"<generated interface>",
                      "#version 450 core\n#line 1 0\n" + glslInterface(technique, maps)});
-    for (std::string_view path : files) {
+    // A technique file may name shared files it needs with `// requires: TECH/NAME.glsl` lines
+    // (e.g. the pyramid walk of quadtree, maxmip and quadtree-oriented); each goes in once,
+    // before the first file that requires it.
+    std::vector<std::string_view> ordered;
+    auto add = [&](auto&& self, std::string_view path) -> void {
+        if (std::find(ordered.begin(), ordered.end(), path) != ordered.end()) return;
+        const std::string_view source = shaderSource(path);
+        for (size_t at = source.find("// requires: "); at != std::string_view::npos;
+             at = source.find("// requires: ", at + 1)) {
+            if (at != 0 && source[at - 1] != '\n') continue;
+            const size_t begin = at + 13, end = source.find('\n', begin);
+            self(self, source.substr(begin, end == std::string_view::npos ? end : end - begin));
+        }
+        ordered.push_back(path);
+    };
+    for (std::string_view path : files) add(add, path);
+    for (std::string_view path : ordered) {
         const std::string_view source = shaderSource(path);
         if (source.empty())
             return makeError(ErrorKind::Runtime, "GL: no embedded shader '{}' (known: {})", path,

@@ -1,6 +1,7 @@
 #pragma once
 // GL programs assembled from embedded sources: "#version 450 core", the generated interface
-// (shader_interface.h), then the listed files, each opened with `#line 1 N` so that a compile
+// (shader_interface.h), then the listed files (each preceded by the files it names on
+// `// requires: TECH/NAME.glsl` lines, once), each opened with `#line 1 N` so that a compile
 // log's "N:line" points into file N; the error lists the files by number.
 //
 // GL objects here must be created and destroyed while an EglContext::Scope is held.

@@ -1,5 +1,9 @@
 #include <relief/gl/shader_interface.h>
 
+#include <relief/techniques/cone/cone.h>
+#include <relief/techniques/quadtree/pyramid_walk.h>
+#include <relief/techniques/safety_common/safety_march.h>
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -149,7 +153,7 @@ std::string glslMapInterface(const TechniqueMaps* maps) {
         float number = 0.0f;
         const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
         if (ec == std::errc() && end == value.data() + value.size() && std::isfinite(number))
-            text += constant("kMapParam" + glslMapName(key), number);
+            text += constant("kMapParam" + glslParamName(key).substr(6), number);
     }
     text += "layout(std430, binding = kMapsBinding) readonly buffer Maps { float maps[]; };\n";
     text += "float mapTexel(int map, int x, int y, int channel) {\n"
@@ -175,6 +179,17 @@ std::string glslInterface(const TechniqueInfo* info, const TechniqueMaps* maps) 
     text += constant("kEdgeRepeat", int(EdgeMode::Repeat));
     text += constant("kRepeatTravelFactor", Surface::kRepeatTravelFactor);
     text += constant("kFloatEpsilon", std::numeric_limits<float>::epsilon());
+    text += constant("kIntMax", std::numeric_limits<int>::max());
+    // Constants of the techniques' tracers (pyramid_walk.h, safety_march.h, cone.h).
+    text += constant("kAscentNone", int(Ascent::None));
+    text += constant("kAscentParent", int(Ascent::Parent));
+    text += constant("kAscentAncestor", int(Ascent::Ancestor));
+    text += constant("kWalkSlack", kWalkSlack);
+    text += constant("kLeafFetches", kLeafFetches);
+    text += constant("kMinCenterlines", safety::kMinCenterlines);
+    text += constant("kFarStep", safety::kFarStep);
+    text += constant("kConeDecodeMargin", kConeDecodeMargin);
+    text += constant("kConeStall", ConeLimits{}.stall);
     if (info) {
         for (size_t k = 0; k < info->params.size(); ++k)
             text += constant(glslParamName(info->params[k].name), int(k));

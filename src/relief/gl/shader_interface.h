@@ -110,8 +110,8 @@ std::string glslParamName(std::string_view paramName);
 // some drivers allow. The GLSL side is generated (glslMapInterface): per array `kMap<Name>` (its
 // index; "level0" → kMapLevel0, "ccx+" → kMapCcxPlus) and `#define RELIEF_MAP_<NAME>` (to test
 // for an optional array), tables kMapOffset / kMapWidth / kMapHeight / kMapChannels, the
-// accessor `mapTexel(map, x, y, channel)`, and one `kMapParam<Name>` per numeric map parameter
-// ("cone-max" → kMapParamConeMax).
+// accessor `mapTexel(map, x, y, channel)`, and one `const float kMapParam<Name>` per numeric
+// map parameter, named as glslParamName names parameters ("cone-max" → kMapParamConeMax).
 
 // "ccx+" → "CcxPlus", "level0" → "Level0": the GLSL spelling of an array or parameter name.
 std::string glslMapName(std::string_view name);

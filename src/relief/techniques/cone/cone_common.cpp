@@ -237,7 +237,7 @@ std::vector<vec2> buildRows(const Surface& s, PerTexel&& perTexel) {
     return cones;
 }
 
-constexpr float kDecodeMargin = 1.0f / float(1 << 20);  // float rounding of the decode
+constexpr float kDecodeMargin = kConeDecodeMargin;
 
 }  // namespace
 
@@ -250,6 +250,10 @@ float coneRatioMax(const Surface& s) {
 std::vector<vec2> buildCones(const Surface& surface, ConeKind kind) {
     const ConeSearch search(surface, kind);
     return buildRows(surface, [&](int i, int j) { return search.texel(i, j); });
+}
+
+float safeApexHeight(const Surface& surface, int i, int j) {
+    return apexOf(surface, ConeKind::SafeStrict, i, j).a;
 }
 
 std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind) {

@@ -87,8 +87,12 @@ float coneRatioMax(const Surface& surface);
 std::vector<vec2> buildCones(const Surface& surface, ConeKind kind);
 // Θ(N⁴) oracles for tests: the same definitions without the pyramid (small maps only).
 std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind);
+// The SafeStrict apex of texel (i, j): the max of S over its footprint (shared with qdm).
+float safeApexHeight(const Surface& surface, int i, int j);
 
-// The texels as stored at `encoding` (rounded towards the safe side), and back.
+// The texels as stored at `encoding` (rounded towards the safe side), and back. Decoding 16/8-bit
+// codes widens the rounding margin by this much (also the GLSL decode, cone/cone_map.glsl).
+inline constexpr float kConeDecodeMargin = 1.0f / float(1 << 20);
 MapArray encodeCones(const Surface& surface, const std::vector<vec2>& cones,
                      const ConeEncoding& encoding);
 ConeMap decodeCones(const Surface& surface, const MapArray& array, const ConeEncoding& encoding);

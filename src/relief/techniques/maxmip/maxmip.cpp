@@ -4,8 +4,9 @@ namespace relief {
 
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"), false};
-    return makeBatchTracer(
-        MaxmipTracer(input.surface, std::make_shared<const MaxPyramid>(*input.surface), limits));
+    auto pyramid = maxPyramidFor(input);  // baked (input.maps) or built now
+    if (!pyramid) return pyramid.error();
+    return makeBatchTracer(MaxmipTracer(input.surface, std::move(*pyramid), limits));
 }
 
 }  // namespace relief

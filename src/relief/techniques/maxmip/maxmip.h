@@ -23,7 +23,7 @@
 namespace relief {
 
 class MaxmipTracer {
-  public:
+public:
     MaxmipTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const MaxPyramid> pyramid,
                  WalkLimits limits)
         : m_surface(std::move(surface)), m_pyramid(std::move(pyramid)), m_limits(limits) {}
@@ -33,7 +33,7 @@ class MaxmipTracer {
                                              ray, m_limits);
     }
 
-  private:
+private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const MaxPyramid> m_pyramid;
     WalkLimits m_limits;
@@ -43,5 +43,6 @@ inline constexpr ParamSpec kMaxmipParams[] = {
     {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate"},
 };
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input);
+Result<TechniqueMaps> buildMaxmipMaps(const TechniqueInput& input);  // maxmip_maps.cpp
 
 }  // namespace relief

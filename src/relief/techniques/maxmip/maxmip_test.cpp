@@ -27,8 +27,8 @@ TEST(Maxmip, CappedCursorNeverPassesFirstHit) {
         "maxmip");
 }
 
-// Ascending to the common ancestor: a ray crossing a flat map low and level never walks cell
-// by cell; it climbs back to the big nodes.
+// Ascending to the common ancestor: a low, nearly level ray over sparse spikes does not walk
+// cell by cell after a cell test; it climbs back to big nodes.
 TEST(Maxmip, ClimbsBackAfterACellTest) {
     const auto surface = walk_test::makeSurface({"spikes", 512, 512, EdgeMode::Clamp, 0.05f});
     const auto tracer = maxmipMaker()(surface);

@@ -19,10 +19,14 @@
 // Encoding: one float per node, texel units (D·h), each level in 4×4 tiles (one cache line).
 //   Memory: ≈ 4/3 · (W+1)(H+1) floats (tiles pad each level to a multiple of 4).
 // Build: O(WH), parallel over rows (about 0.1 s at 4096² on two cores).
+#include <relief/core/error.h>
+#include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
 
 #include <array>
 #include <cstddef>
+#include <memory>
+#include <string_view>
 #include <vector>
 
 namespace relief {
@@ -64,19 +68,19 @@ struct TiledIndex {
 // The corners of all cells, as a (cellsX+1)×(cellsY+1) grid: vertex (k, l) is the sample
 // (firstCell + k, firstCell + l) of the surface (clamped or wrapped). Used while building.
 class VertexGrid {
-  public:
+public:
     explicit VertexGrid(const Surface& surface);
     int width() const { return m_width; }
     float at(int k, int l) const { return m_z[size_t(l) * size_t(m_width) + size_t(k)]; }
     const float* row(int l) const { return &m_z[size_t(l) * size_t(m_width)]; }
 
-  private:
+private:
     int m_width;
     std::vector<float> m_z;
 };
 
 class MaxPyramid {
-  public:
+public:
     explicit MaxPyramid(const Surface& surface);
     MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout);
     MaxPyramid(MaxPyramid&&) = default;  // level pointers stay valid: the buffer moves along
@@ -90,7 +94,14 @@ class MaxPyramid {
     }
     size_t bytes() const { return m_values.size() * sizeof(float); }
 
-  private:
+    // Baked form (quadtree_maps.cpp): arrays "level0" .. "level<top>", level L of
+    // widthAt(L) × heightAt(L) nodes, 1 channel, row-major (untiled).
+    std::vector<MapArray> toArrays() const;
+    // From those arrays; an error naming the array when one is missing or has the wrong size.
+    static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps);
+
+private:
+    explicit MaxPyramid(const PyramidLayout& layout);  // levels allocated, not built
     using Index = TiledIndex<2>;  // 4×4 floats per tile
     struct Level {
         float* values;
@@ -103,5 +114,11 @@ class MaxPyramid {
     std::vector<float> m_values;  // all levels, finest first, tiled
     std::array<Level, PyramidLayout::kMaxLevels> m_levels{};
 };
+
+// The pyramid to trace with: from input.maps (checked) or built now (quadtree_maps.cpp).
+struct TechniqueInput;
+Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input);
+// input's pyramid as the baked maps of `technique` ("quadtree", "maxmip").
+Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique);
 
 }  // namespace relief

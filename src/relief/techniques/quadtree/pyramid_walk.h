@@ -15,6 +15,11 @@
 // "boundary offset" delta, without an epsilon). Everything skipped lies above a bound ≥ S, and
 // every cell the ray crosses below its bound gets the reference's own cell test, so the result
 // is the reference's first hit (up to float rounding of t).
+//
+// Which side of a cell edge the ray is on is always decided in t, with the reference's formula
+// for the t at which the ray crosses the edge (boundaryT), never from a float position: far from
+// the origin a position within an ulp of an edge rounds onto it, and a ray running along the edge
+// would then be walked in the wrong row of cells (seen at 4096², fixed, and kept in the tests).
 #include <relief/surface/cell_intersect.h>
 #include <relief/techniques/quadtree/max_pyramid.h>
 
@@ -53,18 +58,21 @@ struct WalkRay {
 };
 
 // Where the walk is: cursor t, current level, the level-0 index of the cursor's node (bits ≥
-// level; pyramid indices), and the global cell index of pyramid index 0 (repeat: the tile's).
+// level; pyramid indices), the global cell index of pyramid index 0 (repeat: the tile's), and
+// the t at which the ray leaves the node along each axis (kept up to date, not recomputed).
 struct WalkCursor {
     float t;
     int level;
     int px, py;
     int baseX, baseY;
+    float exitX, exitY;
 };
 
-// The node under test: level-0 index range [lo, hi) per axis, and the cursor's tile base.
+// The node under test: its first level-0 index per axis (it spans 2^level of them, fewer at the
+// end of a row), and the cursor's tile base.
 struct NodeBox {
     int level, nx, ny;
-    int loX, hiX, loY, hiY;
+    int loX, loY;
     int baseX, baseY;
 
     // Texel position of the lower corner of the node's nominal 2^L square.
@@ -107,10 +115,30 @@ inline int floorMod(int a, int n) {
     return r < 0 ? r + n : r;
 }
 
+// t at which the ray leaves, along one axis, the node of `level` that holds index p (+inf when
+// the ray does not move along that axis).
+inline float sideExitT(int p, int level, int cells, int base, int step, int exitMask, float origin,
+                       float inverse) {
+    if (step == 0) return kInfinity;
+    const int lo = (p >> level) << level;
+    const int hi = std::min(lo + (1 << level), cells);
+    return boundaryT(base + lo + ((hi - lo) & exitMask), origin, inverse);
+}
+
+inline void updateExits(const PyramidLayout& layout, const WalkRay& r, WalkCursor& c, bool x,
+                        bool y) {
+    if (x)
+        c.exitX =
+            sideExitT(c.px, c.level, layout.cellsX, c.baseX, r.stepX, r.exitMaskX, r.o.x, r.invX);
+    if (y)
+        c.exitY =
+            sideExitT(c.py, c.level, layout.cellsY, c.baseY, r.stepY, r.exitMaskY, r.o.y, r.invY);
+}
+
 inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, const WalkRay& r) {
     const vec3 entry = r.at(r.tEnter);
     const int ci = s.cellOfX(entry.x), cj = s.cellOfY(entry.y);
-    WalkCursor c{r.tEnter, layout.topLevel(), 0, 0, layout.firstCell, layout.firstCell};
+    WalkCursor c{r.tEnter, layout.topLevel(), 0, 0, layout.firstCell, layout.firstCell, 0, 0};
     if (layout.repeat) {
         c.px = floorMod(ci, layout.cellsX);
         c.py = floorMod(cj, layout.cellsY);
@@ -120,6 +148,7 @@ inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, con
         c.px = ci - layout.firstCell;
         c.py = cj - layout.firstCell;
     }
+    updateExits(layout, r, c, true, true);
     return c;
 }
 
@@ -130,21 +159,13 @@ inline NodeBox nodeBox(const PyramidLayout& layout, const WalkCursor& c) {
     b.ny = c.py >> c.level;
     b.loX = b.nx << c.level;
     b.loY = b.ny << c.level;
-    b.hiX = std::min(b.loX + (1 << c.level), layout.cellsX);
-    b.hiY = std::min(b.loY + (1 << c.level), layout.cellsY);
     b.baseX = c.baseX;
     b.baseY = c.baseY;
     return b;
 }
 
-// Node sides, crossed at the reference's own t (every decision of the walk is taken in the
-// reference's t: float positions near a cell edge can round to the wrong side).
-inline NodeExit nodeExit(const WalkRay& r, const NodeBox& b, const WalkCursor& c) {
-    const int edgeX = c.baseX + b.loX + ((b.hiX - b.loX) & r.exitMaskX);
-    const int edgeY = c.baseY + b.loY + ((b.hiY - b.loY) & r.exitMaskY);
-    const float tx = r.stepX != 0 ? boundaryT(edgeX, r.o.x, r.invX) : kInfinity;
-    const float ty = r.stepY != 0 ? boundaryT(edgeY, r.o.y, r.invY) : kInfinity;
-    return {tx, ty, std::max(c.t, std::min({tx, ty, r.tExit}))};
+inline NodeExit nodeExit(const WalkRay& r, const WalkCursor& c) {
+    return {c.exitX, c.exitY, std::max(c.t, std::min({c.exitX, c.exitY, r.tExit}))};
 }
 
 // First t in [t, tOut] where the ray is at or below height `top`, or kInfinity.
@@ -158,13 +179,13 @@ inline float enterBelow(float top, const WalkRay& r, float t, float tOut) {
 
 // The flat bound of `quadtree` and `maxmip`: the node's maximum (one fetch).
 class MaxBound {
-  public:
+public:
     explicit MaxBound(const MaxPyramid& pyramid) : m_pyramid(&pyramid) {}
     float enter(const NodeBox& b, const WalkRay& r, float t, float tOut) const {
         return enterBelow(m_pyramid->at(b.level, b.nx, b.ny) + r.slack, r, t, tOut);
     }
 
-  private:
+private:
     const MaxPyramid* m_pyramid;
 };
 
@@ -215,16 +236,21 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
 
-// Index of the child half (low or high) that holds the ray at t along one axis: decided by when
-// the ray crosses the middle (the reference's t), clamped to the existing cells (a truncated
-// node's nominal high half may not exist).
-inline int childIndex(float t, float origin, float inverse, int step, int base, int lo, int half,
-                      int cells) {
+// Along one axis, the child half (low or high) of [lo, lo + 2·half) that holds the ray at t:
+// decided by when the ray crosses the middle (the reference's t). A truncated node's nominal
+// high half may not exist. The child's exit is the middle or the parent's exit.
+inline void settleHalf(float t, float origin, float inverse, int step, int base, int lo, int half,
+                       int cells, int& index, float& exitT) {
+    const bool exists = lo + half < cells;
     const int middle = base + lo + half;
-    const bool high = step > 0   ? t >= boundaryT(middle, origin, inverse)
-                      : step < 0 ? t < boundaryT(middle, origin, inverse)
-                                 : origin >= float(middle) + 0.5f;
-    return std::min(lo + (high ? half : 0), cells - 1);
+    if (step == 0) {
+        index = lo + (exists && origin >= float(middle) + 0.5f ? half : 0);
+        return;
+    }
+    const float tMiddle = boundaryT(middle, origin, inverse);
+    const bool high = exists && (step > 0 ? t >= tMiddle : t < tMiddle);
+    index = lo + (high ? half : 0);
+    if (exists && high == (step < 0)) exitT = tMiddle;  // leaving through the middle
 }
 
 // Moves the cursor to tIn and into the child that holds it.
@@ -233,8 +259,8 @@ inline void descend(const PyramidLayout& layout, const WalkRay& r, const NodeBox
     c.t = tIn;
     --c.level;
     const int half = 1 << c.level;
-    c.px = childIndex(tIn, r.o.x, r.invX, r.stepX, c.baseX, b.loX, half, layout.cellsX);
-    c.py = childIndex(tIn, r.o.y, r.invY, r.stepY, c.baseY, b.loY, half, layout.cellsY);
+    settleHalf(tIn, r.o.x, r.invX, r.stepX, c.baseX, b.loX, half, layout.cellsX, c.px, c.exitX);
+    settleHalf(tIn, r.o.y, r.invY, r.stepY, c.baseY, b.loY, half, layout.cellsY, c.py, c.exitY);
 }
 
 template <Ascent kAscent>
@@ -268,17 +294,21 @@ bool advance(const PyramidLayout& layout, const WalkRay& r, const NodeBox& b, co
     if (e.t >= r.tExit) return false;
     c.t = e.t;
     bool seam = false;
+    const bool alongX = e.tx <= e.ty;
     int from, to;
-    if (e.tx <= e.ty) {
+    if (alongX) {
         from = c.px;
-        to = c.px = r.stepX > 0 ? b.hiX : b.loX - 1;
+        to = c.px = r.stepX > 0 ? std::min(b.loX + (1 << b.level), layout.cellsX) : b.loX - 1;
         if (!stepIndex(r.stepX, layout.cellsX, layout.repeat, c.px, c.baseX, seam)) return false;
     } else {
         from = c.py;
-        to = c.py = r.stepY > 0 ? b.hiY : b.loY - 1;
+        to = c.py = r.stepY > 0 ? std::min(b.loY + (1 << b.level), layout.cellsY) : b.loY - 1;
         if (!stepIndex(r.stepY, layout.cellsY, layout.repeat, c.py, c.baseY, seam)) return false;
     }
-    c.level = levelAfterStep<kAscent>(layout, c.level, from, to, seam);
+    const int level = levelAfterStep<kAscent>(layout, c.level, from, to, seam);
+    const bool ascended = level != c.level;
+    c.level = level;
+    updateExits(layout, r, c, alongX || ascended, !alongX || ascended);
     return true;
 }
 
@@ -298,7 +328,7 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
         ++steps;
         ++fetches;
         const NodeBox b = nodeBox(layout, c);
-        const NodeExit e = nodeExit(r, b, c);
+        const NodeExit e = nodeExit(r, c);
         const float tIn = bound.enter(b, r, c.t, e.t);
         if (tIn <= e.t) {
             if (c.level > 0) {

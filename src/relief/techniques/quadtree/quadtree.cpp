@@ -6,8 +6,9 @@ Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"),
                             input.params.getInt("box-surface") != 0};
     const Ascent ascent = input.params.getInt("ascend") == 0 ? Ascent::None : Ascent::Parent;
-    return makeBatchTracer(QuadtreeTracer(
-        input.surface, std::make_shared<const MaxPyramid>(*input.surface), ascent, limits));
+    auto pyramid = maxPyramidFor(input);  // baked (input.maps) or built now
+    if (!pyramid) return pyramid.error();
+    return makeBatchTracer(QuadtreeTracer(input.surface, std::move(*pyramid), ascent, limits));
 }
 
 }  // namespace relief

@@ -32,7 +32,7 @@
 namespace relief {
 
 class QuadtreeTracer {
-  public:
+public:
     QuadtreeTracer(std::shared_ptr<const Surface> surface,
                    std::shared_ptr<const MaxPyramid> pyramid, Ascent ascent, WalkLimits limits)
         : m_surface(std::move(surface)),
@@ -49,7 +49,7 @@ class QuadtreeTracer {
     }
     const MaxPyramid& pyramid() const { return *m_pyramid; }
 
-  private:
+private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const MaxPyramid> m_pyramid;
     Ascent m_ascent;
@@ -65,5 +65,6 @@ inline constexpr ParamSpec kQuadtreeParams[] = {
      "1 = the paper's surface: stop at the first level-0 node reached (cell boxes; approximate)"},
 };
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input);
+Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input);  // quadtree_maps.cpp
 
 }  // namespace relief

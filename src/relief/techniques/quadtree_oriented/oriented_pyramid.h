@@ -18,7 +18,7 @@ struct OrientedNode {
 static_assert(sizeof(OrientedNode) == 16);
 
 class OrientedPyramid {
-  public:
+public:
     // Slopes from the child maxima at level L-1 of `maxima`; heights exact over the vertices.
     OrientedPyramid(const VertexGrid& vertices, const MaxPyramid& maxima);
     OrientedPyramid(OrientedPyramid&&) = default;  // level pointers move with the buffer
@@ -31,7 +31,14 @@ class OrientedPyramid {
     }
     size_t bytes() const { return m_nodes.size() * sizeof(OrientedNode); }
 
-  private:
+    // Baked form (quadtree_oriented_maps.cpp): arrays "oriented1" .. "oriented<top>", level L of
+    // widthAt(L) × heightAt(L) nodes, 4 channels (c00, c10, c01, zmax), row-major (untiled).
+    std::vector<MapArray> toArrays() const;
+    static Result<OrientedPyramid> fromArrays(const PyramidLayout& layout,
+                                              const TechniqueMaps& maps);
+
+private:
+    explicit OrientedPyramid(const PyramidLayout& layout);  // levels allocated, not built
     using Index = TiledIndex<1>;  // 2×2 nodes of 16 bytes per tile
     struct Level {
         OrientedNode* nodes;

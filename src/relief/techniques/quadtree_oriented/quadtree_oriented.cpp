@@ -17,8 +17,9 @@ OrientedMaps::OrientedMaps(const VertexGrid& vertices, std::shared_ptr<const Max
 
 Result<std::unique_ptr<Tracer>> createQuadtreeOriented(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"), false};
-    return makeBatchTracer(QuadtreeOrientedTracer(
-        input.surface, std::make_shared<const OrientedMaps>(*input.surface), limits));
+    auto maps = orientedMapsFor(input);  // baked (input.maps) or built now
+    if (!maps) return maps.error();
+    return makeBatchTracer(QuadtreeOrientedTracer(input.surface, std::move(*maps), limits));
 }
 
 }  // namespace relief

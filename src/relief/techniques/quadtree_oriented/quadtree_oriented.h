@@ -59,7 +59,7 @@ inline float enterBelowPlane(const OrientedNode& n, const NodeBox& b, const Walk
 }
 
 class OrientedBound {
-  public:
+public:
     OrientedBound(const MaxPyramid& maxima, const OrientedPyramid& planes)
         : m_maxima(&maxima), m_planes(&planes) {}
     float enter(const NodeBox& b, const WalkRay& r, float t, float tOut) const {
@@ -70,7 +70,7 @@ class OrientedBound {
         return enterBelowPlane(n, b, r, tIn, tOut);
     }
 
-  private:
+private:
     const MaxPyramid* m_maxima;
     const OrientedPyramid* m_planes;
 };
@@ -83,10 +83,11 @@ struct OrientedMaps {
 
     explicit OrientedMaps(const Surface& surface);
     OrientedMaps(const VertexGrid& vertices, std::shared_ptr<const MaxPyramid> maxima);
+    OrientedMaps(std::shared_ptr<const MaxPyramid> maxima, OrientedPyramid planes);
 };
 
 class QuadtreeOrientedTracer {
-  public:
+public:
     QuadtreeOrientedTracer(std::shared_ptr<const Surface> surface,
                            std::shared_ptr<const OrientedMaps> maps, WalkLimits limits)
         : m_surface(std::move(surface)), m_maps(std::move(maps)), m_limits(limits) {}
@@ -98,7 +99,7 @@ class QuadtreeOrientedTracer {
     }
     const OrientedMaps& maps() const { return *m_maps; }
 
-  private:
+private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const OrientedMaps> m_maps;
     WalkLimits m_limits;
@@ -108,5 +109,9 @@ inline constexpr ParamSpec kQuadtreeOrientedParams[] = {
     {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate"},
 };
 Result<std::unique_ptr<Tracer>> createQuadtreeOriented(const TechniqueInput& input);
+// Both pyramids as baked maps ("level<L>" and "oriented<L>"; quadtree_oriented_maps.cpp), and
+// the maps to trace with: from input.maps (checked) or built now.
+Result<TechniqueMaps> buildQuadtreeOrientedMaps(const TechniqueInput& input);
+Result<std::shared_ptr<const OrientedMaps>> orientedMapsFor(const TechniqueInput& input);
 
 }  // namespace relief

@@ -1,0 +1,10 @@
+// maxmip's baked maps: the max pyramid shared with `quadtree` (quadtree/quadtree_maps.cpp).
+#include <relief/techniques/maxmip/maxmip.h>
+
+namespace relief {
+
+Result<TechniqueMaps> buildMaxmipMaps(const TechniqueInput& input) {
+    return maxPyramidMaps(input, "maxmip");
+}
+
+}  // namespace relief

@@ -1,0 +1,104 @@
+#pragma once
+// The quadratic displacement map: (a, b, c, h) per texel (see qdm.h for the guarantee), its
+// builders (fast pyramid staircase and the paper's all-cells oracle), the profile it encodes
+// and the stable parabola root of Algorithm 2.
+//
+// Why the fit holds. For texel F with apex h, every cell B with corner maximum M_B > h gives a
+// point (r_B, v_B) = (dist(F, B), M_B − h): S ≤ M_B over B and dist(q, F) ≥ r_B there. A cell
+// overlapping F (r_B = 0) gives S(q) ≤ h + G_B·dist(q, F) (cone_common.h, G_B its steeper plane
+// gradient), capped at v_B: it adds the slope constraint s ≥ G_B and the point (v_B / G_B, v_B).
+// So g(x) = max over the points with r ≤ x (and the overlapping cells' min(G x, v)) bounds
+// S − h at footprint distance x, and a nondecreasing f ≥ g is a valid profile.
+//   Cone (the paper's search): s = max v / r over the points with r ≤ a, a = height-ratio ·
+//   max(S) / s, taken in order of r. Parabola: P_c(x) = b + (x − a)(2c − a − x) up to c, flat
+//   at its top beyond; for x > a its value only grows with c, so each point (r, v) beyond a
+//   with v > b needs c ≥ c_j, the smallest c with the nondecreasing P_c ≥ v at r:
+//   c_j = (a + r)/2 + (v − b) / (2(r − a)) if v − b ≥ (r − a)², else a + sqrt(v − b).
+//   c = max c_j. The profile is concave beyond a, so meeting the vertices of the points' upper
+//   convex bound meets every point: the convex search gives the same c as the plain one.
+//   Only the staircase of points higher than every nearer point matters (a point dominated by
+//   a nearer, higher one changes neither s nor c), which is what lets the fast builder prune
+//   pyramid nodes no higher than the best point found nearer (best-first, by distance).
+#include <relief/io/map_file.h>
+#include <relief/techniques/technique.h>
+
+#include <memory>
+#include <vector>
+
+namespace relief {
+
+struct QdmTexel {
+    float a = 0, b = 0, c = 0, h = 0;
+};
+
+struct QdmBuildParams {
+    float heightRatio = 0.2f;
+    float maxDistance = 0.0f;  // 0 = unlimited
+    bool convexBound = true;
+    static QdmBuildParams from(const ParamValues& params);
+};
+
+// The profile f(x) of a texel (nondecreasing; the parabola's top beyond c).
+inline float qdmProfile(const QdmTexel& q, float x) {
+    if (x <= q.a) return q.a > 0.0f ? q.b * x / q.a : 0.0f;
+    const float u = std::min(x, q.c) - q.a;
+    return q.b + u * (2.0f * (q.c - q.a) - u);
+}
+
+// Algorithm 2 for A = |d.xy|², B = dz − 2c|d.xy|, C = h0 − b − a² + 2ac: the smaller root, kept
+// only where it lies on the parabola's side of the junction (x ≥ a); kInfinity otherwise. With
+// the ray above the profile at x = a, B ≥ 0 or a smaller root before the junction means the ray
+// never meets the parabola.
+inline float parabolaStep(const QdmTexel& q, float h0, float horizontal, float dz) {
+    const float halfB = 0.5f * dz - q.c * horizontal;
+    if (halfB >= 0.0f) return kInfinity;
+    const float A = horizontal * horizontal;
+    const float C = h0 - q.b - q.a * q.a + 2.0f * q.a * q.c;
+    const float disc = halfB * halfB - A * C;
+    if (disc < 0.0f) return kInfinity;
+    const float t = C / (-halfB + std::sqrt(disc));
+    return t * horizontal >= q.a ? t : kInfinity;
+}
+
+class QdmMap {
+public:
+    QdmMap(const Surface& s, std::vector<QdmTexel> texels, float maxDistance);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    const QdmTexel& at(float x, float y) const {
+        return m_texels[size_t(wrap(int(std::floor(y)), m_height)) * size_t(m_width) +
+                        size_t(wrap(int(std::floor(x)), m_width))];
+    }
+    // The horizontal distance the profile bounds S for: unlimited when it clears the highest
+    // point of S at max-distance (it is nondecreasing), else max-distance.
+    float reach(const QdmTexel& q) const {
+        if (m_maxDistance == kInfinity || qdmProfile(q, m_maxDistance) >= m_maxZ - q.h)
+            return kInfinity;
+        return m_maxDistance;
+    }
+    const std::vector<QdmTexel>& texels() const { return m_texels; }
+
+private:
+    int wrap(int i, int n) const {
+        if (m_edge == EdgeMode::Clamp) return std::clamp(i, 0, n - 1);
+        const int r = i % n;
+        return r < 0 ? r + n : r;
+    }
+    int m_width, m_height;
+    EdgeMode m_edge;
+    float m_maxZ, m_maxDistance;
+    std::vector<QdmTexel> m_texels;
+};
+
+// Fast builder (pyramid staircase), parallel over rows.
+std::vector<QdmTexel> buildQdm(const Surface& surface, const QdmBuildParams& params);
+// The paper's Θ(N⁴) builder: every cell of the map for every texel (test oracle, small maps).
+std::vector<QdmTexel> buildQdmBruteForce(const Surface& surface, const QdmBuildParams& params);
+
+MapArray encodeQdm(const Surface& surface, const std::vector<QdmTexel>& texels);
+std::map<std::string, std::string> qdmMapParameters(const QdmBuildParams& params);
+// Built now, or taken from input.maps after checking size, channels and build parameters.
+Result<std::shared_ptr<const QdmMap>> qdmMapFor(const TechniqueInput& input);
+
+}  // namespace relief

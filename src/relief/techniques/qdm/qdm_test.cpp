@@ -1,0 +1,116 @@
+// qdm: the map invariant against dense sampling of S from positions anywhere in the texel, the
+// fast builder against the paper's all-cells builder, plain vs convex-bound search, the stable
+// root, baked-map validation and the contract with a finite max-distance.
+#include <relief/techniques/cone/cone_test_support.h>
+
+#include <relief/techniques/qdm/qdm.h>
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace relief {
+namespace {
+
+// S(q) ≤ h + f(|q − p|) for p at the corners, centre and random points of each footprint and q
+// on a fine grid of the map (and its neighbours in repeat mode), within the profile's reach.
+size_t countViolations(const Surface& s, const QdmMap& map) {
+    const int n = 6;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    const int margin = s.edge() == EdgeMode::Repeat ? s.width() : 0;
+    size_t violations = 0;
+    for (int j = 0; j < s.height(); ++j)
+        for (int i = 0; i < s.width(); ++i) {
+            const QdmTexel& q = map.at(float(i) + 0.5f, float(j) + 0.5f);
+            std::vector<vec2> positions = {{i, j}, {i + 1, j}, {i, j + 1}, {i + 1, j + 1},
+                                           {i + 0.5f, j + 0.5f}};
+            for (int k = 0; k < 3; ++k) positions.push_back({i + unit(rng), j + unit(rng)});
+            for (int y = -margin * n; y < (s.height() + margin) * n; ++y)
+                for (int x = -margin * n; x < (s.width() + margin) * n; ++x) {
+                    const vec2 pt((float(x) + 0.5f) / float(n), (float(y) + 0.5f) / float(n));
+                    const float z = s.heightAt(pt.x, pt.y);
+                    for (const vec2& p : positions) {
+                        const float dist = glm::length(pt - p);
+                        if (dist > map.reach(q)) continue;
+                        if (z > q.h + qdmProfile(q, dist) + 1e-4f) ++violations;
+                    }
+                }
+        }
+    return violations;
+}
+
+TEST(QdmMap, ProfileBoundsSFromAnyPositionInTheTexel) {
+    for (const char* g : {"fbm", "walls", "spikes", "terraces", "peaks6", "sine"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float maxDistance : {0.0f, 3.0f})
+                for (bool convex : {true, false}) {
+                    const auto s = testing::makeSurface(g, 10, 8, edge);
+                    const QdmBuildParams params{0.2f, maxDistance, convex};
+                    const QdmMap map(*s, buildQdm(*s, params), maxDistance);
+                    EXPECT_EQ(countViolations(*s, map), 0u)
+                        << g << " " << toString(edge) << " max-distance " << maxDistance
+                        << " convex " << convex;
+                }
+}
+
+TEST(QdmMap, FastBuilderAndConvexBoundEqualThePapersBuilder) {
+    for (const char* g : {"fbm", "walls", "terraces", "spikes"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float ratio : {0.2f, 0.5f, 0.0f}) {
+                const auto s = testing::makeSurface(g, 13, 10, edge);
+                const auto brute = buildQdmBruteForce(*s, {ratio, 0.0f, false});
+                for (bool convex : {false, true}) {
+                    const auto fast = buildQdm(*s, {ratio, 0.0f, convex});
+                    ASSERT_EQ(fast.size(), brute.size());
+                    for (size_t k = 0; k < fast.size(); ++k) {
+                        ASSERT_EQ(fast[k].h, brute[k].h) << g << " texel " << k;
+                        // Equal up to float rounding (pruning compares v with s·d, the fit v / r).
+                        ASSERT_NEAR(fast[k].a, brute[k].a, 1e-5f * (1.0f + brute[k].a)) << k;
+                        ASSERT_NEAR(fast[k].b, brute[k].b, 1e-5f * (1.0f + brute[k].b)) << k;
+                        ASSERT_NEAR(fast[k].c, brute[k].c, 1e-5f * (1.0f + brute[k].c))
+                            << g << " ratio " << ratio << " convex " << convex << " texel " << k;
+                    }
+                }
+            }
+}
+
+TEST(QdmTracer, StableRootMatchesTheQuadraticFormula) {
+    const QdmTexel q{1.0f, 0.5f, 4.0f, 0.0f};
+    const float hv = 0.8f, dz = -0.6f, h0 = 2.0f;
+    const float t = parabolaStep(q, h0, hv, dz);
+    ASSERT_TRUE(std::isfinite(t));
+    EXPECT_NEAR(h0 + dz * t, qdmProfile(q, hv * t), 1e-5f);
+    EXPECT_EQ(parabolaStep(q, h0, hv, 4.0f), kInfinity);  // B ≥ 0: steep upward ray
+}
+
+TEST(QdmTracer, ConservativeWithFiniteMaxDistanceAndPlainSearch) {
+    for (double distance : {0.0, 4.0})
+        for (double convex : {0.0, 1.0}) {
+            const testing::ConeTally t = testing::tallyAgainstExact(
+                "qdm", {{"max-distance", distance}, {"convex-bound", convex}}, 300);
+            SCOPED_TRACE(t.describe(fmt::format("qdm max-distance {} convex {}", distance, convex)));
+            EXPECT_EQ(t.pastFirstHit, 0u);
+            EXPECT_EQ(t.wrongHitMiss, 0u);
+            EXPECT_EQ(t.beyondTolerance, 0u);
+        }
+}
+
+TEST(QdmMaps, BakedMapsAreUsedAndOtherParametersRefused) {
+    const auto s = testing::makeSurface("fbm", 16, 12, EdgeMode::Clamp);
+    const TechniqueInfo& info = *findTechnique("qdm");
+    auto params = resolveParams(info, {});
+    auto maps = info.buildMaps(TechniqueInput{s, *params});
+    ASSERT_TRUE(maps.ok());
+    EXPECT_TRUE(info.create(TechniqueInput{s, *params, &*maps}).ok());
+    auto other = resolveParams(info, {{"height-ratio", 0.5}});
+    auto refused = info.create(TechniqueInput{s, *other, &*maps});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("height-ratio"), std::string::npos);
+    TechniqueMaps broken = *maps;
+    broken.arrays[0].channels = 2;
+    EXPECT_FALSE(info.create(TechniqueInput{s, *params, &broken}).ok());
+}
+
+}  // namespace
+}  // namespace relief

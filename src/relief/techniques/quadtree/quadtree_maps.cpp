@@ -1,0 +1,87 @@
+// The max pyramid as baked maps (shared by `quadtree` and `maxmip`): one array per level,
+// "level0" .. "level<top>", row-major, one float per node (max_pyramid.h). The GL backend reads
+// the same arrays (gl/shader_interface.h), so this is also the GPU layout.
+#include <relief/techniques/maxmip/maxmip.h>
+#include <relief/techniques/quadtree/quadtree.h>
+
+#include <algorithm>
+
+namespace relief {
+
+namespace {
+std::string levelName(int level) { return "level" + std::to_string(level); }
+}  // namespace
+
+MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
+    size_t total = 0;
+    for (int level = 0; level < layout.levels; ++level)
+        total += Index::size(layout.widthAt(level), layout.heightAt(level));
+    m_values.assign(total, 0.0f);
+    size_t offset = 0;
+    for (int level = 0; level < layout.levels; ++level) {
+        m_levels[size_t(level)] = {m_values.data() + offset, Index::of(layout.widthAt(level))};
+        offset += Index::size(layout.widthAt(level), layout.heightAt(level));
+    }
+}
+
+std::vector<MapArray> MaxPyramid::toArrays() const {
+    std::vector<MapArray> arrays;
+    for (int level = 0; level < m_layout.levels; ++level) {
+        MapArray a{levelName(level), m_layout.widthAt(level), m_layout.heightAt(level), 1, {}};
+        a.data.reserve(size_t(a.width) * size_t(a.height));
+        for (int y = 0; y < a.height; ++y)
+            for (int x = 0; x < a.width; ++x) a.data.push_back(at(level, x, y));
+        arrays.push_back(std::move(a));
+    }
+    return arrays;
+}
+
+Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps) {
+    const PyramidLayout layout = PyramidLayout::of(surface);
+    MaxPyramid pyramid(layout);
+    for (int level = 0; level < layout.levels; ++level) {
+        const std::string name = levelName(level);
+        const MapArray* a = maps.find(name);
+        const int w = layout.widthAt(level), h = layout.heightAt(level);
+        if (!a)
+            return makeError(ErrorKind::InvalidInput,
+                             "{} maps: no array '{}' (a {}-level max pyramid over {}×{} {} cells "
+                             "expected)", maps.technique, name, layout.levels, layout.cellsX,
+                             layout.cellsY, surface.edge() == EdgeMode::Repeat ? "repeat" : "clamp");
+        if (a->width != w || a->height != h || a->channels != 1 ||
+            a->data.size() != size_t(w) * size_t(h))
+            return makeError(ErrorKind::InvalidInput,
+                             "{} maps: array '{}' is {}×{}×{} ({} floats), expected {}×{}×1",
+                             maps.technique, name, a->width, a->height, a->channels,
+                             a->data.size(), w, h);
+        const Level& out = pyramid.m_levels[size_t(level)];
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                out.values[out.index(x, y)] = a->data[size_t(y) * size_t(w) + size_t(x)];
+    }
+    if (maps.find(levelName(layout.levels)))
+        return makeError(ErrorKind::InvalidInput, "{} maps: array '{}' beyond the top level {} of "
+                         "this surface's pyramid", maps.technique, levelName(layout.levels),
+                         layout.topLevel());
+    return pyramid;
+}
+
+Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {
+    if (!input.maps) return std::make_shared<const MaxPyramid>(*input.surface);
+    auto pyramid = MaxPyramid::fromArrays(*input.surface, *input.maps);
+    if (!pyramid) return pyramid.error();
+    return std::make_shared<const MaxPyramid>(std::move(*pyramid));
+}
+
+Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique) {
+    TechniqueMaps maps;
+    maps.technique = std::string(technique);
+    maps.arrays = MaxPyramid(*input.surface).toArrays();
+    return maps;
+}
+
+Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input) {
+    return maxPyramidMaps(input, "quadtree");
+}
+
+}  // namespace relief
