@@ -73,6 +73,10 @@ const CliCase kCases[] = {
     {"render", "render gen:peaks6:32x32 --size 40x30 -o {tmp}/r.png --deterministic", 0, "| exact | exact |", ""},
     {"render all", "render gen:walls:24x24 -t all --size 32x24 --out-dir {tmp}/all --format json --deterministic", 0, "\"technique\": \"parallax\"", ""},
     {"version", "--version", 0, "relief", ""},
+    {"phi-max warning", "render gen:fbm:32x32 -t safety-cc --param phi-max=-45 --size 32x24 --elevation 30 -o {tmp}/w.png --deterministic", 0, "| safety-cc | exact |", "outside the maps' viewing-angle restriction"},
+    {"bake and use maps", "bake gen:fbm:24x24 --maps quadtree,cone -o {tmp}/m.exr --deterministic", 0, "wrote", ""},
+    {"use baked maps", "trace gen:fbm:24x24 -t quadtree --maps {tmp}/m.exr --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"stale maps refused", "trace gen:fbm:24x24:9 -t cone --maps {tmp}/m.exr --rays {tmp}/rays.csv", 3, "", "stale maps"},
     // Bad arguments: exit 1.
     {"unknown technique", "trace gen:flat:8x8 -t nope --rays {tmp}/rays.csv", 1, "", "unknown technique 'nope'"},
     {"unknown option", "trace gen:flat:8x8 --frobnicate --rays {tmp}/rays.csv", 1, "", "relief: error:"},

@@ -162,6 +162,20 @@ void runCurvesRender(const RenderOptions& o) {
     std::cout << orFail(curves::runCurvesRender(r));
 }
 
+// Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
+void warnAboutView(const TechniqueOptions& options, const std::vector<std::string>& names,
+                   const Camera& camera) {
+    const std::vector<Ray> rays = primaryRays(camera);
+    for (const std::string& name : names) {
+        const TechniqueInfo& info = *findTechnique(name);
+        if (!info.viewWarning) continue;
+        const auto params = resolveParams(info, orFail(parameterOverrides(options)));
+        if (!params) continue;  // makeTracer has already reported bad parameters
+        const std::string warning = info.viewWarning(*params, rays);
+        if (!warning.empty()) std::fprintf(stderr, "relief: warning: %s: %s\n", name.c_str(), warning.c_str());
+    }
+}
+
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
     if (o.technique.name == "curves" || o.baseSurface == "sphere") return runCurvesRender(o);
@@ -193,6 +207,7 @@ void runRender(const RenderOptions& o) {
     shading.color = color ? &*color : nullptr;
     shading.normalMap = normals ? &*normals : nullptr;
     const Camera camera(o.view, *surface, size.x, size.y);
+    warnAboutView(o.technique, names, camera);
     auto exact = orFail(createTracer("exact", surface));
     const Image<Hit> reference = tracePrimary(camera, *exact);
     std::vector<TechniqueRun> runs;

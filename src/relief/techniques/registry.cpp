@@ -11,6 +11,7 @@
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
 #include <relief/techniques/safety_cc/safety_cc.h>
+#include <relief/techniques/safety_common/safety_params.h>
 #include <relief/techniques/safety_sd/safety_sd.h>
 
 #include <cmath>
@@ -62,11 +63,13 @@ const TechniqueInfo kTechniques[] = {
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
-     .buildMaps = buildSafetySdMaps, .glsl = "safety_sd/safety_sd.glsl"},
+     .buildMaps = buildSafetySdMaps, .viewWarning = safety::phiMaxViewWarning,
+     .glsl = "safety_sd/safety_sd.glsl"},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
-     .buildMaps = buildSafetyCcMaps, .glsl = "safety_cc/safety_cc.glsl"},
+     .buildMaps = buildSafetyCcMaps, .viewWarning = safety::phiMaxViewWarning,
+     .glsl = "safety_cc/safety_cc.glsl"},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},

@@ -90,6 +90,9 @@ struct TechniqueInfo {
     Result<std::unique_ptr<Tracer>> (*create)(const TechniqueInput& input);
     // For `relief bake`: the technique's maps as named arrays; null when it has none.
     Result<TechniqueMaps> (*buildMaps)(const TechniqueInput& input) = nullptr;
+    // Optional view check for the renderer: a warning when these primary rays fall outside what
+    // the technique's maps were built for (e.g. a viewing-angle restriction), else empty.
+    std::string (*viewWarning)(const ParamValues& params, std::span<const Ray> rays) = nullptr;
     // Path of its GLSL tracer relative to src/relief/techniques (e.g. "exact/exact.glsl"); empty
     // when it has none.
     std::string_view glsl = {};

@@ -136,6 +136,12 @@ public:
         return d <= m_a ? m_s * d : m_b + u * (2.0f * (m_c - m_a) - u);
     }
 
+    bool coneDone() const { return m_coneDone; }
+    float c() const { return m_c; }
+    // The largest c_j a cell at distance ≥ d (> a) and height ≤ v can need (c_j is
+    // nonincreasing in r and nondecreasing in v).
+    float cBound(float d, float v) const { return parabolaC(m_a, m_b, {d, v}); }
+
 private:
     float cone() const { return m_s > 0.0f ? m_coneHeight / m_s : kInfinity; }
     void finishCone(const Radial& radial) {
@@ -234,6 +240,11 @@ private:
             if (n.distance > m_reach) break;
             const float v = m_pyramid.at(n.level, n.x, n.y) - h;
             if (v <= best || v <= running.lowerBound(n.distance, radial)) continue;
+            if (running.coneDone()) {  // the cone is final: the rest only raises c, in any order
+                heap.push_back(n);
+                maximizeC(foot, h, heap, running, radial);
+                return;
+            }
             if (n.level == 0) {
                 const ivec2 cell = globalCell(n.x, n.y, m_shifts[size_t(n.shift)]);
                 const size_t before = radial.points.size();
@@ -254,6 +265,45 @@ private:
                     std::push_heap(heap.begin(), heap.end());
                 }
         }
+    }
+
+    // Branch and bound for c = max c_j: nodes by the largest c_j a cell in them could need.
+    void maximizeC(const Box& foot, float h, const std::vector<Node>& nodes, RunningFit& running,
+                   Radial& radial) const {
+        thread_local std::vector<std::pair<float, Node>> heap;
+        heap.clear();
+        auto push = [&](const Node& n) {
+            if (n.distance > m_reach) return;
+            const float bound = running.cBound(n.distance, m_pyramid.at(n.level, n.x, n.y) - h);
+            if (bound <= running.c()) return;
+            heap.push_back({bound, n});
+            std::push_heap(heap.begin(), heap.end(), byBound);
+        };
+        for (const Node& n : nodes) push(n);
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), byBound);
+            const auto [bound, n] = heap.back();
+            heap.pop_back();
+            if (bound <= running.c()) break;
+            if (n.level == 0) {
+                const ivec2 cell = globalCell(n.x, n.y, m_shifts[size_t(n.shift)]);
+                const size_t before = radial.points.size();
+                addCell(m_s, foot, h, cell.x, cell.y, radial);
+                for (size_t k = before; k < radial.points.size(); ++k)
+                    running.add(radial.points[k], radial.slope);
+                continue;
+            }
+            const int level = n.level - 1;
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) {
+                    const int x = 2 * n.x + dx, y = 2 * n.y + dy;
+                    if (x < m_layout.widthAt(level) && y < m_layout.heightAt(level))
+                        push(node(foot, level, x, y, n.shift));
+                }
+        }
+    }
+    static bool byBound(const std::pair<float, Node>& p, const std::pair<float, Node>& q) {
+        return p.first < q.first;
     }
 
     const Surface& m_s;

@@ -18,6 +18,17 @@ MarchOptions marchOptionsFrom(const ParamValues& params, const BuildOptions& bui
     return m;
 }
 
+std::string phiMaxViewWarning(const ParamValues& params, std::span<const Ray> rays) {
+    const double phiMax = params.get("phi-max");
+    const double tanPhi = tanPhiMax(phiMax);
+    size_t outside = 0;
+    for (const Ray& r : rays) outside += !rayWithinPhiMax(r.direction, tanPhi);
+    if (outside == 0) return {};
+    return fmt::format("{:.1f}% of the primary rays are outside the maps' viewing-angle restriction "
+                       "(phi-max {}): they take the exact walk, which is slower (results stay exact)",
+                       100.0 * double(outside) / double(rays.size()), phiMax);
+}
+
 Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps& maps) {
     auto baked = optionsFromArrays(maps);
     if (!baked) return baked.error();

@@ -20,6 +20,10 @@ inline constexpr ParamSpec kSafetyParams[] = {
 
 BuildOptions buildOptionsFrom(const ParamValues& params);
 MarchOptions marchOptionsFrom(const ParamValues& params, const BuildOptions& build);
+// The renderer's warning when primary rays fall outside phi-max (they stay exact, but take the
+// slow exact walk). Uses the requested phi-max; empty when all rays are within it.
+std::string phiMaxViewWarning(const ParamValues& params, std::span<const Ray> rays);
+
 // The build options of baked maps, checked against the requested parameters.
 Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps& maps);
 
