@@ -15,10 +15,13 @@
 //   ray is in is tested exactly (firstHitInCell) and the ray moves to its exit, so the loop
 //   ends on the reference's first hit unless `max-steps` stops it. Contract: conservative.
 // Map: "qdm", 4 channels (a, b, c, h) per texel, W×H, float32, texel units (a, c horizontal
-//   distances, b and h heights). Build (qdm_map.cpp): a best-first walk of the max pyramid
-//   from F that keeps only the staircase of cells higher than every nearer cell (the only
-//   ones the fit depends on), then the paper's search over it, by default on its upper convex
-//   bound (§4.1, Andrew's monotone chain). About O(WH · staircase · log N), parallel over rows.
+//   distances, b and h heights). Build (qdm_map.cpp): the max pyramid walked from F nearest
+//   first, skipping nodes below the staircase of nearer points or below the profile reached so
+//   far, until the cone is final; then branch and bound on c (nodes by the largest c_j they
+//   could need); then the paper's search over the points kept, by default on their upper convex
+//   bound (§4.1, Andrew's monotone chain). Output equals the paper's all-cells builder (tests).
+//   Time: fbm 1024² 6.6 s, peaks6 1024² 149 s on 2 loaded cores (long cone phases on gently
+//   rising ground); memory: the pyramid plus 16 bytes per texel.
 // Steps = quadric steps + exact cell tests; fetches = 1 per quadric step + 4 per cell test.
 // Departures: the apex is the max of S over the footprint and distances run from the
 //   footprint (the published centre apex is not conservative on S between samples or off the

@@ -17,8 +17,10 @@
 //   c = max c_j. The profile is concave beyond a, so meeting the vertices of the points' upper
 //   convex bound meets every point: the convex search gives the same c as the plain one.
 //   Only the staircase of points higher than every nearer point matters (a point dominated by
-//   a nearer, higher one changes neither s nor c), which is what lets the fast builder prune
-//   pyramid nodes no higher than the best point found nearer (best-first, by distance).
+//   a nearer, higher one changes neither s nor c), and no point under the profile reached so
+//   far (s, c only grow), which is what lets the fast builder prune pyramid nodes while walking
+//   them nearest first; once the cone is final, c = max c_j does not depend on order and is
+//   found by branch and bound.
 #include <relief/io/map_file.h>
 #include <relief/techniques/technique.h>
 

@@ -89,7 +89,8 @@ TEST(QdmTracer, ConservativeWithFiniteMaxDistanceAndPlainSearch) {
         for (double convex : {0.0, 1.0}) {
             const testing::ConeTally t = testing::tallyAgainstExact(
                 "qdm", {{"max-distance", distance}, {"convex-bound", convex}}, 300);
-            SCOPED_TRACE(t.describe(fmt::format("qdm max-distance {} convex {}", distance, convex)));
+            SCOPED_TRACE(
+                t.describe(fmt::format("qdm max-distance {} convex {}", distance, convex)));
             EXPECT_EQ(t.pastFirstHit, 0u);
             EXPECT_EQ(t.wrongHitMiss, 0u);
             EXPECT_EQ(t.beyondTolerance, 0u);
