@@ -134,6 +134,14 @@ struct OracleStats {
     int disagreements = 0;    // exact and brute force differ
     int roundingDecided = 0;  // ... but exact is right for a ray within float rounding
     double maxDt = 0.0;
+
+    void add(const OracleStats& o) {
+        rays += o.rays;
+        hits += o.hits;
+        disagreements += o.disagreements;
+        roundingDecided += o.roundingDecided;
+        maxDt = std::max(maxDt, o.maxDt);
+    }
 };
 
 // Compares exact with the oracle on `rays`; reports rays exact gets wrong.
@@ -210,11 +218,7 @@ TEST(ExactReference, MatchesBruteForceOnSmallMaps) {
         for (int k = 0; k < (flat ? 0 : 800); ++k) rays.push_back(maker.make(Family::Inside));
         OracleStats stats;
         compareWithOracle(*s, rays, m.label, stats);
-        total.rays += stats.rays;
-        total.hits += stats.hits;
-        total.disagreements += stats.disagreements;
-        total.roundingDecided += stats.roundingDecided;
-        total.maxDt = std::max(total.maxDt, stats.maxDt);
+        total.add(stats);
     }
     std::printf(
         "[ exact vs brute force ] %d rays, %d hits, %d disagreements (%d decided by float "
@@ -314,11 +318,7 @@ TEST(ExactReference, AxisAlignedAndEdgeRays) {
         for (float x : xs) add({x, -2.0f, maker.uniform(0.0f, m.depth)}, {0, 1, 0});
         OracleStats stats;
         compareWithOracle(*s, rays, m.label, stats);
-        total.rays += stats.rays;
-        total.hits += stats.hits;
-        total.disagreements += stats.disagreements;
-        total.roundingDecided += stats.roundingDecided;
-        total.maxDt = std::max(total.maxDt, stats.maxDt);
+        total.add(stats);
     }
     std::printf(
         "[ exact vs brute force, edge rays ] %d rays, %d hits, %d disagreements (%d "

@@ -24,6 +24,13 @@ namespace relief {
 enum class EdgeMode { Clamp, Repeat };
 std::string_view toString(EdgeMode mode);
 
+// Index of the texel (per-texel map entry) in [0, n) for any integer i: clamped or wrapped.
+inline int texelIndex(int i, int n, EdgeMode edge) {
+    if (edge == EdgeMode::Clamp) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+    const int r = i % n;
+    return r < 0 ? r + n : r;
+}
+
 // A plane z = z0 + sx·u + sy·v over a cell's local coordinates u = x - (ci+0.5), v = y - (cj+0.5).
 struct CellPlane {
     float z0, sx, sy;

@@ -63,17 +63,12 @@ public:
     int height() const { return m_height; }
     // The entry of the texel whose footprint holds (x, y) (any one of them on a shared edge).
     vec2 at(float x, float y) const {
-        return m_texels[size_t(wrap(int(std::floor(y)), m_height)) * size_t(m_width) +
-                        size_t(wrap(int(std::floor(x)), m_width))];
+        return m_texels[size_t(texelIndex(int(std::floor(y)), m_height, m_edge)) * size_t(m_width) +
+                        size_t(texelIndex(int(std::floor(x)), m_width, m_edge))];
     }
     const std::vector<vec2>& texels() const { return m_texels; }
 
 private:
-    int wrap(int i, int n) const {
-        if (m_edge == EdgeMode::Clamp) return std::clamp(i, 0, n - 1);
-        const int r = i % n;
-        return r < 0 ? r + n : r;
-    }
     int m_width, m_height;
     EdgeMode m_edge;
     std::vector<vec2> m_texels;

@@ -69,8 +69,8 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
     const QdmTexel& at(float x, float y) const {
-        return m_texels[size_t(wrap(int(std::floor(y)), m_height)) * size_t(m_width) +
-                        size_t(wrap(int(std::floor(x)), m_width))];
+        return m_texels[size_t(texelIndex(int(std::floor(y)), m_height, m_edge)) * size_t(m_width) +
+                        size_t(texelIndex(int(std::floor(x)), m_width, m_edge))];
     }
     // The horizontal distance the profile bounds S for: unlimited when it clears the highest
     // point of S at max-distance (it is nondecreasing), else max-distance.
@@ -82,11 +82,6 @@ public:
     const std::vector<QdmTexel>& texels() const { return m_texels; }
 
 private:
-    int wrap(int i, int n) const {
-        if (m_edge == EdgeMode::Clamp) return std::clamp(i, 0, n - 1);
-        const int r = i % n;
-        return r < 0 ? r + n : r;
-    }
     int m_width, m_height;
     EdgeMode m_edge;
     float m_maxZ, m_maxDistance;
