@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -16,6 +17,15 @@
 #include <vector>
 
 namespace relief::bench {
+
+// An option value in [0, 4096] (threads, repeats); false if the text is anything else.
+inline bool parseInt(const char* text, int& value) {
+    char* end = nullptr;
+    const long v = std::strtol(text, &end, 10);
+    if (!end || *end != '\0' || v < 0 || v > 4096) return false;
+    value = int(v);
+    return true;
+}
 
 inline constexpr int kPacket = 4;  // 4×4 pixels = 16 rays
 inline constexpr int kTile = 16;   // 16×16 pixels = 256 rays

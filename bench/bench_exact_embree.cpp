@@ -62,14 +62,6 @@ struct Options {
     std::string dataDir = kSourceDir + "/data";
 };
 
-bool parseInt(const char* text, int& value) {
-    char* end = nullptr;
-    const long v = std::strtol(text, &end, 10);
-    if (!end || *end != '\0' || v < 0 || v > 4096) return false;
-    value = int(v);
-    return true;
-}
-
 // Returns 0 to go on, or an exit code.
 int parseOptions(int argc, char** argv, Options& options) {
     for (int k = 1; k < argc; ++k) {
