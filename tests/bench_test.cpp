@@ -1,11 +1,15 @@
 // `relief bench --preset quick` on tiny inputs: the outputs exist and parse, and the numbers are
-// sane (exact and the exact-contract techniques have zero error, Embree agrees with exact).
+// sane (exact and the exact-contract techniques have zero error, Embree agrees with exact); the
+// HTML report renders in headless Chromium with every image loaded and no console error.
+#include <relief/io/heightfield_io.h>
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace {
@@ -49,8 +53,47 @@ TEST(BenchCommand, QuickPresetWritesSaneReport) {
     size_t lines = 0;
     for (std::string line; std::getline(csv, line);) ++lines;
     EXPECT_EQ(lines, rows.size());
+    std::ifstream markdown(out / "report.md");
+    const std::string report((std::istreambuf_iterator<char>(markdown)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("| exact | exact | cpu | 0 | 0 | 0.000 |"), std::string::npos) << report;
+    EXPECT_NE(report.find("## Error vs iteration cap"), std::string::npos);
     fs::remove_all(out);
     fs::remove(out.string() + ".log");
+}
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(BenchCommand, HtmlReportRendersInHeadlessChromium) {
+    ASSERT_EQ(std::system("command -v chromium >/dev/null"), 0) << "chromium is missing: run scripts/install-deps.sh";
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_html_" + std::to_string(::getpid()));
+    const std::string bench = std::string(RELIEF_CLI_PATH) + " bench --preset quick --threads 2 --out-dir " +
+                              out.string() + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(bench.c_str()), 0) << bench;
+    const std::string chromium = "timeout 120 chromium --headless --no-sandbox --disable-gpu --enable-logging=stderr "
+                                 "--v=0 --virtual-time-budget=5000 --user-data-dir=" + (out / "profile").string();
+    const std::string page = "file://" + (out / "index.html").string();
+    const std::string dump = chromium + " --dump-dom " + page + " > " + (out / "dom.html").string() + " 2> " +
+                             (out / "console.log").string();
+    ASSERT_EQ(std::system(dump.c_str()), 0) << dump;
+    const std::string dom = readText(out / "dom.html");
+    EXPECT_NE(dom.find("data-broken-images=\"0\""), std::string::npos) << "some report images did not load";
+    EXPECT_EQ(dom.find("data-images=\"0\""), std::string::npos) << "the report has no images";
+    const std::string console = readText(out / "console.log");
+    EXPECT_EQ(console.find("CONSOLE"), std::string::npos) << console;
+
+    const std::string shot = chromium + " --window-size=1200,900 --screenshot=" + (out / "shot.png").string() + " " +
+                             page + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(shot.c_str()), 0) << shot;
+    auto image = relief::loadColorImage((out / "shot.png").string());
+    ASSERT_TRUE(image) << image.error().message;
+    EXPECT_EQ(image->width, 1200);
+    std::set<uint32_t> colours;
+    for (const relief::Rgb8& p : image->pixels) colours.insert(uint32_t(p.x) << 16 | uint32_t(p.y) << 8 | p.z);
+    EXPECT_GT(colours.size(), 50u) << "the screenshot looks blank";
+    fs::remove_all(out);
 }
 
 TEST(BenchCommand, RejectsBadOptions) {

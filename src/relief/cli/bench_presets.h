@@ -8,6 +8,16 @@
 
 namespace relief::cli {
 
+// One of a paper's published speed ratios, set beside ours in the report: the speed (Mrays/s, or
+// fps on GL) of the numerator technique on its map over the denominator's, per view, on the same
+// rays. An empty map means every map of the run.
+struct PaperRatio {
+    std::string what;   // what is compared
+    std::string paper;  // the published figure and its source
+    std::string numeratorTechnique, numeratorMap, denominatorTechnique, denominatorMap;
+    std::string backend = "cpu";
+};
+
 struct BenchConfig {
     std::vector<std::string> maps;        // gen:NAME:WxH or paths (relative to the repo's root)
     std::vector<std::string> techniques;  // registry names present in this build
@@ -21,7 +31,8 @@ struct BenchConfig {
     int repeats = 3;
     int glFrames = 10;  // timed GL frames per row
     bool embree = true;
-    std::string paperNotes;  // the paper's published figures, shown beside ours
+    std::string paperNotes;  // the paper's claims, shown beside ours
+    std::vector<PaperRatio> paperRatios;
 };
 
 std::string presetNames();

@@ -1,6 +1,7 @@
 // relief bench: techniques × heightfields × views × iteration caps × backends, with the Embree
 // peer in the same run; writes results.csv, results.json, images, SVG plots and index.html.
 #include <relief/cli/bench_presets.h>
+#include <relief/cli/bench_report.h>
 #include <relief/cli/common.h>
 #include <relief/core/parallel.h>
 #include <relief/core/progress.h>
@@ -30,20 +31,14 @@ struct BenchOptions {
     std::string preset = "default";
     std::string techniques, maps, elevations, caps, backends, size;
     std::string outDir = "bench-out";
+    std::string markdownPath;  // also write the Markdown report here (links relative to it)
     int threads = 0;
     int repeats = 0;
     bool noImages = false;
     bool deterministic = false;
 };
 
-struct Row {
-    std::string technique, contract, map, backend, paramsText;
-    float elevation = 0;
-    int cap = 0;  // 0 = the technique's default / none
-    ErrorStats stats;
-    double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, bytesPerTexel = 0;
-    std::string images;  // file prefix relative to the output folder, empty if none
-};
+using Row = BenchRow;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -118,6 +113,17 @@ struct GlInput {
     }
     GlInput(GlInput&&) = delete;  // input.maps points into this object
 };
+
+// The command that reproduces this run, for the report's first line.
+std::string commandLine(const BenchOptions& o) {
+    std::string s = "relief bench --preset " + o.preset;
+    for (const auto& [flag, value] : {std::pair{"-t", o.techniques}, {"--heightfields", o.maps}, {"--elevations", o.elevations},
+                                      {"--caps", o.caps}, {"--backend", o.backends}, {"--size", o.size}})
+        if (!value.empty()) s += fmt::format(" {} {}", flag, value);
+    if (o.repeats) s += fmt::format(" --repeats {}", o.repeats);
+    if (o.threads) s += fmt::format(" --threads {}", o.threads);
+    return s;
+}
 
 class Bench {
 public:
@@ -194,7 +200,7 @@ private:
     void runTechnique(const TechniqueInfo& info, const std::string& map, float elevation, int cap,
                       const Surface& surface, const Camera& camera, const BuiltTracer& built,
                       const Image<Hit>& reference, bool images) {
-        Row row{std::string(info.name), std::string(toString(info.contract)), map, "cpu", "", elevation, cap};
+        Row row{std::string(info.name), std::string(toString(info.contract)), map, "cpu", elevation, cap};
         Image<Hit> hits;
         const double seconds = bestOf(m_config.repeats, [&] { hits = tracePrimary(camera, *built.tracer); });
         row.stats = compareHits(hits, reference);
@@ -226,7 +232,7 @@ private:
         const GlFrameTiming timing = orFail(timeGlFrame(info, input, uniforms, {m_config.glFrames, 2}));
         Image<Hit> hits(camera.width(), camera.height());
         hits.pixels = orFail(traceGlCamera(info, input, uniforms));
-        Row row{std::string(info.name), std::string(toString(info.contract)), map, "gl", "", elevation, cap};
+        Row row{std::string(info.name), std::string(toString(info.contract)), map, "gl", elevation, cap};
         row.stats = compareHits(hits, reference);
         row.msPerFrame = timing.msPerFrame;
         row.mraysPerSecond = double(hits.pixels.size()) / (timing.msPerFrame * 1e-3) / 1e6;
@@ -238,7 +244,7 @@ private:
 
     void runMesh(const std::string& map, float elevation, const Surface& surface, const Camera& camera) {
         const GlFrameTiming timing = orFail(timeRasterizedMesh(surface, gl::cameraUniforms(camera), {m_config.glFrames, 2}));
-        Row row{"mesh", "peer", map, "gl", "", elevation, 0};
+        Row row{"mesh", "peer", map, "gl", elevation, 0};
         row.msPerFrame = timing.msPerFrame;
         row.mraysPerSecond = double(camera.width()) * camera.height() / (timing.msPerFrame * 1e-3) / 1e6;
         m_rows.push_back(std::move(row));
@@ -263,7 +269,7 @@ private:
             });
             Image<Hit> image(camera.width(), camera.height());
             for (size_t k = 0; k < hits.size(); ++k) image.pixels[packet == 1 ? k : order[k]] = hits[k];
-            Row row{packet == 1 ? "embree-1" : "embree-16", "peer", map, "cpu", "", elevation, 0};
+            Row row{packet == 1 ? "embree-1" : "embree-16", "peer", map, "cpu", elevation, 0};
             row.stats = compareHits(image, reference);
             row.mraysPerSecond = double(hits.size()) / seconds / 1e6;
             row.msPerFrame = 1000.0 * seconds;
@@ -326,9 +332,12 @@ private:
         }
         writeFile("results.csv", csv);
         writePlots();
-        writeFile("index.html", html(meta));
+        const BenchMeta report = reportMeta(meta);
+        writeFile("index.html", benchHtml(m_rows, m_config, report));
+        writeFile("report.md", benchMarkdown(m_rows, m_config, report, ""));
+        if (!m_o.markdownPath.empty()) writeMarkdownCopy(report);
         if (!m_glDevice.empty()) std::cout << "GL: " << m_glDevice << "\n";
-        std::cout << markdownTable() << fmt::format("\nwrote {}/index.html, results.csv, results.json\n", m_o.outDir);
+        std::cout << fmt::format("\nwrote {0}/index.html, {0}/report.md, results.csv, results.json\n", m_o.outDir);
     }
 
     void writePlots() const {
@@ -369,46 +378,20 @@ private:
                                                          "elevation (degrees)", "mean steps", false, true}, values(stepsVsElevation)));
     }
 
-    std::string markdownTable() const {
-        std::string t = "| technique | backend | map | elev | cap | mean err | wrong % | mean steps | Mrays/s | ms/frame | build s |\n"
-                        "|---|---|---|---|---|---|---|---|---|---|---|\n";
-        for (const Row& r : m_rows)
-            t += fmt::format("| {} | {} | {} | {:.1f} | {} | {:.3g} | {:.3f} | {:.2f} | {} | {} | {} |\n", r.technique, r.backend, r.map,
-                             r.elevation, r.cap ? std::to_string(r.cap) : "-", r.stats.error.mean,
-                             100 * r.stats.wrongRate(), r.stats.steps.mean,
-                             m_o.deterministic ? "-" : fmt::format("{:.2f}", r.mraysPerSecond),
-                             m_o.deterministic ? "-" : fmt::format("{:.3f}", r.msPerFrame),
-                             m_o.deterministic ? "-" : fmt::format("{:.3f}", r.buildSeconds));
-        return t;
+    BenchMeta reportMeta(const nlohmann::json& meta) const {
+        return BenchMeta{m_o.preset, meta["machine"], meta["image_size"], meta["date"], m_glDevice,
+                         commandLine(m_o), ThreadLimit::current(), !m_o.deterministic};
     }
 
-    std::string html(const nlohmann::json& meta) const {
-        std::string h = "<!doctype html><html><head><meta charset=\"utf-8\"><title>relief bench</title><style>"
-                        "body{font-family:sans-serif;margin:20px}table{border-collapse:collapse;font-size:12px}"
-                        "td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}img{max-width:320px}"
-                        "</style></head><body><h1>relief bench: " + m_o.preset + "</h1>";
-        h += fmt::format("<p>Machine: {}; threads: {}; image {}; date {}. All rows of one map and view "
-                         "traced the same primary rays in one run; Mrays/s is the best of {} runs.</p>",
-                         meta["machine"].get<std::string>(), meta["threads"].dump(), meta["image_size"].get<std::string>(),
-                         meta["date"].get<std::string>(), m_config.repeats);
-        if (!m_config.paperNotes.empty()) h += "<h2>The paper's figures</h2><p>" + m_config.paperNotes + "</p>";
-        h += "<h2>Plots</h2><img src=\"error_vs_cap.svg\" style=\"max-width:640px\"> "
-             "<img src=\"steps_vs_elevation.svg\" style=\"max-width:640px\">";
-        h += "<h2>Results</h2><table><tr><th>technique</th><th>contract</th><th>map</th><th>elev</th><th>cap</th>"
-             "<th>mean err</th><th>p95 err</th><th>max err</th><th>wrong %</th><th>mean steps</th><th>max steps</th>"
-             "<th>Mrays/s</th><th>build s</th><th>bytes/texel</th></tr>";
-        for (const Row& r : m_rows)
-            h += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{:.1f}</td><td>{}</td><td>{:.3g}</td><td>{:.3g}</td>"
-                             "<td>{:.3g}</td><td>{:.3f}</td><td>{:.2f}</td><td>{:.0f}</td><td>{:.2f}</td><td>{:.3f}</td><td>{:.1f}</td></tr>",
-                             r.technique, r.contract, r.map, r.elevation, r.cap, r.stats.error.mean, r.stats.error.p95,
-                             r.stats.error.max, 100 * r.stats.wrongRate(), r.stats.steps.mean, r.stats.steps.max,
-                             r.mraysPerSecond, r.buildSeconds, r.bytesPerTexel);
-        h += "</table><h2>Images (render, steps, error vs exact)</h2>";
-        for (const Row& r : m_rows)
-            if (!r.images.empty())
-                h += fmt::format("<h3>{} — {} — elevation {:.1f}</h3><img src=\"{}.png\"> <img src=\"{}-steps.png\"> "
-                                 "<img src=\"{}-error.png\">", r.technique, r.map, r.elevation, r.images, r.images, r.images);
-        return h + "</body></html>\n";
+    // The same report elsewhere (e.g. docs/benchmarks.md), its plot links rewritten to point
+    // into the output folder.
+    void writeMarkdownCopy(const BenchMeta& report) const {
+        namespace fs = std::filesystem;
+        const fs::path target = fs::absolute(m_o.markdownPath);
+        std::string prefix = fs::relative(fs::absolute(m_o.outDir), target.parent_path()).generic_string();
+        prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
+        orFail(writeTextFile(m_o.markdownPath, benchMarkdown(m_rows, m_config, report, prefix)));
+        std::cout << "wrote " << m_o.markdownPath << "\n";
     }
 
     void writeFile(const std::string& name, const std::string& text) const {
@@ -435,6 +418,13 @@ private:
 };
 
 void runBench(const BenchOptions& o) {
+    // Checked before the run, not after an hour of it.
+    if (!o.markdownPath.empty()) {
+        const std::filesystem::path folder = std::filesystem::absolute(o.markdownPath).parent_path();
+        if (!std::filesystem::is_directory(folder))
+            throw CommandFailed{makeError(ErrorKind::BadArgument, "--markdown {}: folder '{}' does not exist",
+                                          o.markdownPath, folder.string())};
+    }
     ThreadLimit limit(o.threads);
     BenchConfig config = orFail(presetConfig(o.preset));
     orFail(applyOverrides(config, o.techniques, o.maps, o.elevations, o.caps, o.backends, o.size, o.repeats));
@@ -456,6 +446,7 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_option("--size", o->size, "image size WxH (multiples of 16)");
     cmd->add_option("--repeats", o->repeats, "timed runs per row (the best counts)");
     cmd->add_option("--out-dir", o->outDir, "output folder")->capture_default_str();
+    cmd->add_option("--markdown", o->markdownPath, "also write the Markdown report to this file");
     cmd->add_flag("--no-images", o->noImages, "skip the per-run images");
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the outputs");
     addThreadsOption(*cmd, o->threads);

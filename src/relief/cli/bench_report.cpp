@@ -1,0 +1,311 @@
+#include <relief/cli/bench_report.h>
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+#include <optional>
+#include <set>
+
+namespace relief::cli {
+
+namespace {
+
+// A table both writers render, so that the Markdown and the HTML report cannot disagree.
+struct Table {
+    Table(std::string titleText, std::string captionText) : title(std::move(titleText)), caption(std::move(captionText)) {}
+    std::string title, caption;
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+};
+
+std::string formatRatio(double r) { return r > 0 ? fmt::format("{:.2f}×", r) : "-"; }
+
+bool sameView(const BenchRow& a, const BenchRow& b) {
+    return a.map == b.map && a.elevation == b.elevation && a.backend == b.backend;
+}
+
+// The largest cap each technique ran with on each backend (0 for techniques without one).
+std::map<std::pair<std::string, std::string>, int> largestCaps(const std::vector<BenchRow>& rows) {
+    std::map<std::pair<std::string, std::string>, int> caps;
+    for (const BenchRow& r : rows) {
+        int& cap = caps[{r.technique, r.backend}];
+        cap = std::max(cap, r.cap);
+    }
+    return caps;
+}
+
+std::vector<const BenchRow*> atLargestCap(const std::vector<BenchRow>& rows) {
+    const auto caps = largestCaps(rows);
+    std::vector<const BenchRow*> selected;
+    for (const BenchRow& r : rows)
+        if (r.cap == caps.at({r.technique, r.backend})) selected.push_back(&r);
+    return selected;
+}
+
+const BenchRow* findRow(const std::vector<const BenchRow*>& rows, const BenchRow& view, const std::string& technique) {
+    for (const BenchRow* r : rows)
+        if (r->technique == technique && sameView(*r, view)) return r;
+    return nullptr;
+}
+
+// Geometric mean of positive ratios; 0 when there are none.
+class RatioMean {
+public:
+    void add(double numerator, double denominator) {
+        if (numerator <= 0 || denominator <= 0) return;
+        m_logSum += std::log(numerator / denominator);
+        ++m_count;
+    }
+    double value() const { return m_count ? std::exp(m_logSum / m_count) : 0.0; }
+
+private:
+    double m_logSum = 0;
+    int m_count = 0;
+};
+
+std::string peerOf(const std::string& backend) { return backend == "gl" ? "mesh" : "embree-1"; }
+
+Table summaryTable(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
+    Table t{"Summary", "Per technique and backend, averaged over every map and view at its largest cap. "
+                       "× exact and × peer are speed ratios on the same rays in this run (peer: Embree "
+                       "rtcIntersect1 on the CPU, the rasterized mesh on GL), geometric means over the views."};
+    t.header = {"technique", "contract", "backend", "mean abs err", "p95 abs err", "wrong %", "mean steps"};
+    if (meta.timings) t.header.insert(t.header.end(), {"Mrays/s", "× exact", "× peer", "build s"});
+    t.header.push_back("bytes/texel");
+    for (const TechniqueSummary& s : summarize(rows, config)) {
+        std::vector<std::string> line = {s.technique, s.contract, s.backend, fmt::format("{:.3g}", s.errorMean),
+                                         fmt::format("{:.3g}", s.errorP95), fmt::format("{:.3f}", s.wrongPercent),
+                                         fmt::format("{:.2f}", s.stepsMean)};
+        if (meta.timings)
+            line.insert(line.end(), {fmt::format("{:.2f}", s.mraysPerSecond), formatRatio(s.vsExact),
+                                     formatRatio(s.vsPeer), fmt::format("{:.2f}", s.buildSeconds)});
+        line.push_back(fmt::format("{:.1f}", s.bytesPerTexel));
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
+// Mean of `value` over the rows of one technique on the CPU, keyed by `key`.
+template <class Key, class KeyFn, class ValueFn>
+std::map<std::string, std::map<Key, std::pair<double, double>>> meanBy(const std::vector<const BenchRow*>& rows,
+                                                                       KeyFn key, ValueFn value) {
+    std::map<std::string, std::map<Key, std::pair<double, double>>> sums;  // (sum, count) per key
+    for (const BenchRow* r : rows) {
+        if (r->backend != "cpu" || r->contract == "peer") continue;
+        auto& [sum, count] = sums[r->technique][key(*r)];
+        sum += value(*r);
+        count += 1;
+    }
+    return sums;
+}
+
+Table errorVsCapTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    Table t{"Error vs iteration cap", "CPU: mean |t − t_exact| (texels) / wrong-pixel %, over every map and view."};
+    std::vector<const BenchRow*> capped;
+    for (const BenchRow& r : rows)
+        if (r.cap > 0) capped.push_back(&r);
+    const auto error = meanBy<int>(capped, [](const BenchRow& r) { return r.cap; },
+                                   [](const BenchRow& r) { return r.stats.error.mean; });
+    const auto wrong = meanBy<int>(capped, [](const BenchRow& r) { return r.cap; },
+                                   [](const BenchRow& r) { return 100 * r.stats.wrongRate(); });
+    t.header = {"technique"};
+    for (int cap : config.caps) t.header.push_back(std::to_string(cap));
+    for (const auto& [technique, byCap] : error) {
+        std::vector<std::string> line = {technique};
+        for (int cap : config.caps) {
+            const auto e = byCap.find(cap);
+            const auto w = wrong.at(technique).find(cap);
+            line.push_back(e == byCap.end() ? "-"
+                                            : fmt::format("{:.3g} / {:.2f}", e->second.first / e->second.second,
+                                                          w->second.first / w->second.second));
+        }
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
+Table stepsVsElevationTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    Table t{"Steps vs elevation", "CPU: mean steps per pixel at the largest cap, over every map."};
+    const auto steps = meanBy<float>(atLargestCap(rows), [](const BenchRow& r) { return r.elevation; },
+                                     [](const BenchRow& r) { return r.stats.steps.mean; });
+    t.header = {"technique"};
+    for (float e : config.elevations) t.header.push_back(fmt::format("{:.1f}°", e));
+    for (const auto& [technique, byElevation] : steps) {
+        std::vector<std::string> line = {technique};
+        for (float e : config.elevations) {
+            const auto it = byElevation.find(e);
+            line.push_back(it == byElevation.end() ? "-" : fmt::format("{:.2f}", it->second.first / it->second.second));
+        }
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
+Table paperTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    Table t{"The paper's figures beside ours", config.paperNotes};
+    t.header = {"comparison", "paper", "ours (this run)"};
+    for (const PaperRatio& ratio : config.paperRatios) t.rows.push_back({ratio.what, ratio.paper, measuredRatio(rows, ratio)});
+    return t;
+}
+
+Table allRowsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+    Table t{"All rows", "One row per technique, map, view, cap and backend."};
+    t.header = {"technique", "backend", "map", "elev", "cap", "mean err", "p95 err", "max err", "wrong %", "mean steps", "max steps"};
+    if (meta.timings) t.header.insert(t.header.end(), {"Mrays/s", "ms/frame", "build s"});
+    for (const BenchRow& r : rows) {
+        std::vector<std::string> line = {r.technique, r.backend, r.map, fmt::format("{:.1f}", r.elevation),
+                                         r.cap ? std::to_string(r.cap) : "-", fmt::format("{:.3g}", r.stats.error.mean),
+                                         fmt::format("{:.3g}", r.stats.error.p95), fmt::format("{:.3g}", r.stats.error.max),
+                                         fmt::format("{:.3f}", 100 * r.stats.wrongRate()), fmt::format("{:.2f}", r.stats.steps.mean),
+                                         fmt::format("{:.0f}", r.stats.steps.max)};
+        if (meta.timings)
+            line.insert(line.end(), {fmt::format("{:.2f}", r.mraysPerSecond), fmt::format("{:.3f}", r.msPerFrame),
+                                     fmt::format("{:.3f}", r.buildSeconds)});
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
+std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
+    std::vector<Table> tables = {summaryTable(rows, config, meta)};
+    if (!config.caps.empty()) tables.push_back(errorVsCapTable(rows, config));
+    tables.push_back(stepsVsElevationTable(rows, config));
+    if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
+    return tables;
+}
+
+std::string markdownTable(const Table& t) {
+    auto line = [](const std::vector<std::string>& cells) {
+        std::string s = "|";
+        for (const std::string& c : cells) s += " " + c + " |";
+        return s + "\n";
+    };
+    std::string s = line(t.header) + "|";
+    for (size_t c = 0; c < t.header.size(); ++c) s += "---|";
+    s += "\n";
+    for (const auto& row : t.rows) s += line(row);
+    return s;
+}
+
+std::string htmlEscape(const std::string& text) {
+    std::string s;
+    for (char c : text) s += c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '&' ? "&amp;" : std::string(1, c);
+    return s;
+}
+
+std::string htmlTable(const Table& t) {
+    std::string s = "<table><tr>";
+    for (const std::string& h : t.header) s += "<th>" + htmlEscape(h) + "</th>";
+    s += "</tr>";
+    for (const auto& row : t.rows) {
+        s += "<tr>";
+        for (const std::string& c : row) s += "<td>" + htmlEscape(c) + "</td>";
+        s += "</tr>";
+    }
+    return s + "</table>";
+}
+
+std::string runDescription(const BenchMeta& meta) {
+    std::string s = fmt::format("Machine: {}; threads: {}; image {}; date {}.", meta.machine, meta.threads,
+                                meta.imageSize, meta.date);
+    if (!meta.glDevice.empty()) s += fmt::format(" GL device: {}.", meta.glDevice);
+    return s + " Every row of one map and view traced the same primary rays in one run; times are the best of the "
+               "timed repeats.";
+}
+
+// Why: an HTML report whose images failed to load looks fine in a table-only glance; the page
+// records what it saw so that a headless browser test (and a reader) can tell.
+constexpr const char* kSelfCheckScript =
+    "<script>window.addEventListener('load',function(){var broken=0,imgs=document.images;"
+    "for(var i=0;i<imgs.length;++i)if(!imgs[i].complete||imgs[i].naturalWidth===0)++broken;"
+    "document.body.setAttribute('data-images',imgs.length);document.body.setAttribute('data-broken-images',broken);"
+    "if(broken)console.error('relief report: '+broken+' images failed to load');});</script>";
+
+}  // namespace
+
+std::vector<TechniqueSummary> summarize(const std::vector<BenchRow>& rows, const BenchConfig&) {
+    const std::vector<const BenchRow*> selected = atLargestCap(rows);
+    std::vector<TechniqueSummary> summaries;
+    std::set<std::pair<std::string, std::string>> done;
+    for (const BenchRow* first : selected) {
+        if (!done.insert({first->technique, first->backend}).second) continue;
+        TechniqueSummary s{first->technique, first->contract, first->backend};
+        RatioMean vsExact, vsPeer;
+        int n = 0;
+        for (const BenchRow* r : selected) {
+            if (r->technique != s.technique || r->backend != s.backend) continue;
+            ++n;
+            s.errorMean += r->stats.error.mean;
+            s.errorP95 += r->stats.error.p95;
+            s.wrongPercent += 100 * r->stats.wrongRate();
+            s.stepsMean += r->stats.steps.mean;
+            s.mraysPerSecond += r->mraysPerSecond;
+            s.buildSeconds += r->buildSeconds;
+            s.bytesPerTexel += r->bytesPerTexel;
+            if (const BenchRow* exact = findRow(selected, *r, "exact")) vsExact.add(r->mraysPerSecond, exact->mraysPerSecond);
+            if (const BenchRow* peer = findRow(selected, *r, peerOf(r->backend))) vsPeer.add(r->mraysPerSecond, peer->mraysPerSecond);
+        }
+        for (double* v : {&s.errorMean, &s.errorP95, &s.wrongPercent, &s.stepsMean, &s.mraysPerSecond, &s.buildSeconds, &s.bytesPerTexel})
+            *v /= n;
+        s.vsExact = vsExact.value();
+        s.vsPeer = vsPeer.value();
+        summaries.push_back(s);
+    }
+    return summaries;
+}
+
+std::string measuredRatio(const std::vector<BenchRow>& rows, const PaperRatio& ratio) {
+    const std::vector<const BenchRow*> selected = atLargestCap(rows);
+    auto matches = [&](const BenchRow& r, const std::string& technique, const std::string& map) {
+        return r.backend == ratio.backend && r.technique == technique && (map.empty() || r.map == map);
+    };
+    RatioMean mean;
+    for (const BenchRow* num : selected) {
+        if (!matches(*num, ratio.numeratorTechnique, ratio.numeratorMap)) continue;
+        for (const BenchRow* den : selected)
+            if (matches(*den, ratio.denominatorTechnique, ratio.denominatorMap) && den->elevation == num->elevation &&
+                (ratio.numeratorMap != ratio.denominatorMap || den->map == num->map))
+                mean.add(num->mraysPerSecond, den->mraysPerSecond);
+    }
+    return formatRatio(mean.value());
+}
+
+std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta,
+                          const std::string& assetPrefix) {
+    std::string s = fmt::format("# relief bench: {}\n\nGenerated by `{}`. {}\n\n", meta.preset, meta.commandLine,
+                                runDescription(meta));
+    for (const Table& t : reportTables(rows, config, meta))
+        s += fmt::format("## {}\n\n{}\n\n{}\n", t.title, t.caption, markdownTable(t));
+    s += fmt::format("## Plots\n\n![error vs cap]({0}error_vs_cap.svg)\n![steps vs elevation]({0}steps_vs_elevation.svg)\n\n",
+                     assetPrefix);
+    const Table all = allRowsTable(rows, meta);
+    s += fmt::format("## {}\n\n<details><summary>{} rows</summary>\n\n{}\n</details>\n", all.title, all.rows.size(),
+                     markdownTable(all));
+    return s;
+}
+
+std::string benchHtml(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
+    std::string h = "<!doctype html><html><head><meta charset=\"utf-8\"><title>relief bench</title><style>"
+                    "body{font-family:sans-serif;margin:20px}table{border-collapse:collapse;font-size:12px}"
+                    "td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}img{max-width:320px}"
+                    "</style></head><body><h1>relief bench: " + htmlEscape(meta.preset) + "</h1>";
+    h += "<p>" + htmlEscape(runDescription(meta)) + "</p>";
+    std::vector<Table> tables = reportTables(rows, config, meta);
+    tables.push_back(allRowsTable(rows, meta));
+    for (size_t k = 0; k < tables.size(); ++k) {
+        if (k + 1 == tables.size())
+            h += "<h2>Plots</h2><img src=\"error_vs_cap.svg\" style=\"max-width:640px\"> "
+                 "<img src=\"steps_vs_elevation.svg\" style=\"max-width:640px\">";
+        h += "<h2>" + htmlEscape(tables[k].title) + "</h2><p>" + htmlEscape(tables[k].caption) + "</p>" + htmlTable(tables[k]);
+    }
+    h += "<h2>Images (render, steps, error vs exact)</h2>";
+    for (const BenchRow& r : rows)
+        if (!r.images.empty())
+            h += fmt::format("<h3>{} — {} — elevation {:.1f}</h3><img src=\"{}.png\"> <img src=\"{}-steps.png\"> "
+                             "<img src=\"{}-error.png\">", htmlEscape(r.technique), htmlEscape(r.map), r.elevation,
+                             r.images, r.images, r.images);
+    return h + kSelfCheckScript + "</body></html>\n";
+}
+
+}  // namespace relief::cli

@@ -1,0 +1,47 @@
+#pragma once
+// What `relief bench` writes from its rows: the per-technique summary (with speed ratios to exact
+// and to the run's peer, measured on the same rays in the same run), error-vs-cap and
+// steps-vs-elevation tables, the paper's figures beside ours, as Markdown and as HTML.
+#include <relief/cli/bench_presets.h>
+#include <relief/render/compare.h>
+
+#include <string>
+#include <vector>
+
+namespace relief::cli {
+
+struct BenchRow {
+    std::string technique, contract, map, backend;
+    float elevation = 0;
+    int cap = 0;  // 0 = the technique's default / none
+    ErrorStats stats;
+    double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, bytesPerTexel = 0;
+    std::string images;  // file prefix relative to the output folder, empty if none
+};
+
+struct BenchMeta {
+    std::string preset, machine, imageSize, date, glDevice, commandLine;
+    int threads = 0;
+    bool timings = true;  // false with --deterministic
+};
+
+// One line of the summary: a technique on one backend, averaged over the maps and views at its
+// largest cap. Speed ratios are geometric means over (map, view) of per-view ratios.
+struct TechniqueSummary {
+    std::string technique, contract, backend;
+    double errorMean = 0, errorP95 = 0, wrongPercent = 0, stepsMean = 0;
+    double mraysPerSecond = 0, vsExact = 0, vsPeer = 0, buildSeconds = 0, bytesPerTexel = 0;
+};
+
+std::vector<TechniqueSummary> summarize(const std::vector<BenchRow>& rows, const BenchConfig& config);
+
+// Our value for one of the paper's figures: the speed ratio it names, from the rows ("-" when the
+// run lacks one side).
+std::string measuredRatio(const std::vector<BenchRow>& rows, const PaperRatio& ratio);
+
+// `assetPrefix` is prepended to the plot file names (the report may live in another folder).
+std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config,
+                          const BenchMeta& meta, const std::string& assetPrefix);
+std::string benchHtml(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta);
+
+}  // namespace relief::cli
