@@ -2,7 +2,7 @@
 // Shared pieces of the benchmarks: primary rays of the orbit camera (render/camera.h) laid out
 // so that every 4×4 pixel block is 16 consecutive rays (an Embree packet) and every 16×16 pixel
 // tile is 256 consecutive rays (a parallel work item), best-of-N timing, and the machine, date
-// and table text that go into docs/benchmarks.md (DESIGN §8: peers measured in the same run).
+// and table text that go into docs/benchmarks-*.md (DESIGN §8: peers measured in the same run).
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
 

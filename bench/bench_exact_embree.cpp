@@ -1,7 +1,7 @@
 // bench_exact_embree: throughput of the reference tracer `exact` against Embree 3 on the same
 // triangles (DESIGN §8), in one run and on the same rays: exact through the registry's
 // Tracer::traceBatch, rtcIntersect1 per ray, and rtcIntersect16 on coherent 4×4 pixel packets,
-// all three parallel over 16×16 pixel tiles. Prints a Markdown table (docs/benchmarks.md).
+// all three parallel over 16×16 pixel tiles. Prints a Markdown table (docs/benchmarks-exact-embree.md).
 //
 // Exit codes: 0 ok, 1 bad arguments, 2 a heightfield could not be loaded, 4 exact and Embree
 // disagree on more than 0.1% of the rays of a view, or --judge found exact wrong (a bug, not a

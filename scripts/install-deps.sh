@@ -7,6 +7,8 @@ packages=(
     libembree-dev libtbb-dev libglm-dev libstb-dev libpng-dev libjpeg-dev libopenexr-dev
     libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
     libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+    libglfw3-dev libimgui-dev xvfb xauth
+    chromium
 )
 missing=()
 for p in "${packages[@]}"; do

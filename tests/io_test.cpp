@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 #include <half.h>
 #include <png.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -553,6 +555,19 @@ std::string exrFile(IoTest& t) {
     return file;
 }
 
+// An EXR file with an unknown attribute inserted first in its header, whose size field claims
+// 2 GB (OpenEXR keeps unknown attributes as opaque bytes of that size).
+Bytes withExrAttribute(const Bytes& exr) {
+    Bytes attribute = {'n', 'o', 't', 'e', 0, 'o', 'p', 'a', 'q', 'u', 'e', 0};
+    const Bytes size = littleEndian<int32_t>({0x78000000});
+    attribute.insert(attribute.end(), size.begin(), size.end());
+    attribute.insert(attribute.end(), {1, 2, 3, 4});
+    Bytes damaged(exr.begin(), exr.begin() + 8);  // magic and version
+    damaged.insert(damaged.end(), attribute.begin(), attribute.end());
+    damaged.insert(damaged.end(), exr.begin() + 8, exr.end());
+    return damaged;
+}
+
 const Hostile kHostile[] = {
     {"missing_file", [](IoTest& t) { return t.path("nowhere.png"); }, ErrorKind::Io,
      {"nowhere.png", "cannot open", "No such file"}},
@@ -657,6 +672,22 @@ const Hostile kHostile[] = {
          return t.withBytes("wide.exr", exr);
      },
      ErrorKind::InvalidInput, {"wide.exr", "65536"}},
+    // Found by fuzz_jpeg (UBSan): a Huffman table whose code counts add up to more than 256
+    // made stb_image write past its table. Refused by the marker walk.
+    {"jpeg_huffman_counts_over_256",
+     [](IoTest& t) {
+         Bytes jpeg = readBytes(sourceFile("data/finland-map-600.jpg"));
+         const size_t dht = find(jpeg, "\xff\xc4");
+         std::fill(jpeg.begin() + std::ptrdiff_t(dht + 5), jpeg.begin() + std::ptrdiff_t(dht + 21),
+                   uint8_t(17));  // 16 counts of 17: 272 symbols
+         return t.withBytes("huffman.jpg", jpeg);
+     },
+     ErrorKind::InvalidInput, {"huffman.jpg", "corrupt JPEG: bad Huffman table"}},
+    // Found by fuzz_map_file: OpenEXR 3.1 allocates an attribute's declared size before reading
+    // it, so these 300 bytes cost 2 GB. Refused before OpenEXR sees the header.
+    {"exr_attribute_claims_2gb",
+     [](IoTest& t) { return t.withBytes("claims.exr", withExrAttribute(readBytes(exrFile(t)))); },
+     ErrorKind::InvalidInput, {"claims.exr", "attribute 'note' (opaque) claims more bytes"}},
     {"pfm_bad_header",
      [](IoTest& t) { return t.withBytes("bad.pfm", {'P', 'f', '\n', 'x', 'y', '\n'}); },
      ErrorKind::InvalidInput, {"bad.pfm", "bad PFM header"}},
@@ -702,6 +733,18 @@ TEST_P(IoHostileTest, IsAnErrorThatSaysWhy) {
             << "missing '" << fragment << "' in: " << hf.error().message;
 }
 
+// The in-memory entry point (what the fuzz targets use) reads the same bytes the same way.
+TEST_P(IoHostileTest, FromMemoryIsTheSameError) {
+    const Hostile& c = GetParam();
+    const std::string file = c.make(*this);
+    if (!fs::is_regular_file(file)) GTEST_SKIP() << "no bytes to read: " << c.name;
+    auto fromFile = loadHeightfield(file, c.options);
+    auto fromMemory = decodeHeightfield(readBytes(file), file, c.options);
+    ASSERT_FALSE(fromMemory) << c.name << " loaded";
+    EXPECT_EQ(int(fromMemory.error().kind), int(fromFile.error().kind));
+    EXPECT_EQ(fromMemory.error().message, fromFile.error().message);
+}
+
 INSTANTIATE_TEST_SUITE_P(IoHostile, IoHostileTest, ::testing::ValuesIn(kHostile),
                          [](const auto& info) { return std::string(info.param.name); });
 
@@ -718,6 +761,78 @@ TEST_F(IoColor, HostileColourFilesAreErrors) {
     auto huge = loadColorImage(withBytes("huge.png", pngClaiming(100000, 100000)));
     ASSERT_FALSE(huge);
     EXPECT_NE(huge.error().message.find("limit of 65536"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Found by fuzz_png: libpng allocates and clears an ancillary chunk's declared length before
+// reading it, so a 105-byte PNG whose tEXt length read 0x29000013 took 680 MB and 8 s before it
+// was refused as truncated. The chunk lengths are now checked against the file first.
+
+// Peak resident memory, in MB (capped at 250), of a child process that loads `file`.
+int peakMegabytesLoading(const std::string& file) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        (void)loadHeightfield(file);
+        rusage usage{};
+        ::getrusage(RUSAGE_SELF, &usage);
+        ::_exit(int(std::min<long>(usage.ru_maxrss / 1024, 250)));
+    }
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST_F(IoTest, ChunkLongerThanTheFileIsRefusedBeforeAllocating) {
+    const Bytes valid = readBytes(validPng());
+    Bytes damaged(valid.begin(), valid.begin() + 33);  // signature and IHDR
+    appendChunk(damaged, "tEXt", {'C', 'o', 'm', 'm', 'e', 'n', 't', 0, 'x'});
+    damaged.insert(damaged.end(), valid.begin() + 33, valid.end());
+    damaged[33] = 0x29;  // the tEXt length: 9 → 0x29000009
+    const std::string file = withBytes("claims.png", damaged);
+    auto hf = loadHeightfield(file);
+    ASSERT_FALSE(hf);
+    EXPECT_NE(hf.error().message.find("truncated PNG"), std::string::npos) << hf.error().message;
+    const int baseline = peakMegabytesLoading(path("valid.png"));
+    const int peak = peakMegabytesLoading(file);
+    ASSERT_GT(baseline, 0);
+    EXPECT_LT(peak, baseline + 64) << "MB; loading the valid file took " << baseline;
+}
+
+// ---------------------------------------------------------------------------------------------
+// From memory: every format decodes to the same heightfield or colour image as from its file.
+
+TEST_F(IoTest, FromMemoryMatchesFromFile) {
+    std::vector<float> y(6 * 5);
+    for (size_t k = 0; k < y.size(); ++k) y[k] = std::cos(float(k));
+    writeExr(path("m.exr"), 6, 5, y);
+    std::string pfm = "Pf\n2 2\n-1\n";
+    for (float v : {0.5f, -2.0f, 4.0f, 1.0f}) pfm.append(reinterpret_cast<const char*>(&v), 4);
+    const std::string files[] = {validPng(), sourceFile("data/finland-map-600.jpg"), path("m.exr"),
+                                 withBytes("m.pfm", Bytes(pfm.begin(), pfm.end()))};
+    for (const std::string& file : files) {
+        SCOPED_TRACE(file);
+        auto fromFile = loadHeightfield(file);
+        auto fromMemory = decodeHeightfield(readBytes(file), file);
+        ASSERT_TRUE(fromFile) << fromFile.error().message;
+        ASSERT_TRUE(fromMemory) << fromMemory.error().message;
+        EXPECT_EQ(fromMemory->width, fromFile->width);
+        EXPECT_EQ(fromMemory->height, fromFile->height);
+        EXPECT_EQ(fromMemory->samples, fromFile->samples);
+    }
+    const std::string jpeg = sourceFile("data/finland-map-600.jpg");
+    auto colorFile = loadColorImage(jpeg);
+    auto colorMemory = decodeColorImage(readBytes(jpeg), jpeg);
+    ASSERT_TRUE(colorFile && colorMemory);
+    EXPECT_EQ(colorMemory->width, colorFile->width);
+    EXPECT_TRUE(colorMemory->pixels == colorFile->pixels);
+    LoadOptions raw;
+    raw.raw = RawLayout{2, 2, RawLayout::Type::U8};
+    auto rawHf = decodeHeightfield(Bytes{0, 51, 102, 255}, "mem.u8", raw);
+    ASSERT_TRUE(rawHf) << rawHf.error().message;
+    EXPECT_EQ(rawHf->samples, (std::vector<float>{0.0f, 0.2f, 0.4f, 1.0f}));
+    auto empty = decodeHeightfield(Bytes{}, "mem.png");
+    ASSERT_FALSE(empty);
+    EXPECT_EQ(empty.error().message, "mem.png: empty file");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -45,6 +45,56 @@ TEST(MapFile, RoundTrip) {
     fs::remove(path);
 }
 
+// The in-memory reader (what fuzz/fuzz_map_file.cpp uses) sees the same file and the same damage.
+TEST(MapFile, FromMemoryMatchesFromFile) {
+    const fs::path path = tempPath("mem.exr");
+    ASSERT_TRUE(writeMapFile(path.string(), sampleMaps()).ok());
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<unsigned char> bytes(std::istreambuf_iterator<char>(in), {});
+    fs::remove(path);
+    auto read = readMapFile(bytes, "mem.exr");
+    ASSERT_TRUE(read.ok()) << read.error().message;
+    const TechniqueMaps* t = read->find("quadtree");
+    ASSERT_NE(t, nullptr);
+    ASSERT_EQ(t->arrays.size(), 2u);
+    EXPECT_EQ(t->arrays[1].channels, 2);
+    EXPECT_EQ(t->arrays[1].data, sampleMaps().techniques[0].arrays[1].data);
+    for (size_t keep : {size_t(0), size_t(4), bytes.size() / 2, bytes.size() - 1}) {
+        auto cut = readMapFile(std::span(bytes.data(), keep), "cut.exr");
+        ASSERT_FALSE(cut.ok()) << keep;
+        EXPECT_EQ(cut.error().message.rfind("cut.exr: cannot read map file: ", 0), 0u)
+            << cut.error().message;
+    }
+}
+
+// Found by fuzz_map_file: an attribute whose size field claims 2 GB made OpenEXR allocate that
+// much for a file of a few KB. Refused before OpenEXR reads the header, from a file or memory.
+TEST(MapFile, AttributeClaimingMoreThanTheFileIsRefused) {
+    const fs::path path = tempPath("claims.exr");
+    ASSERT_TRUE(writeMapFile(path.string(), sampleMaps()).ok());
+    std::vector<unsigned char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const unsigned char attribute[] = {'n', 'o', 't', 'e', 0, 'o', 'p', 'a', 'q', 'u', 'e', 0,
+                                       0x00, 0x00, 0x00, 0x78, 1, 2, 3, 4};  // 0x78000000 bytes
+    bytes.insert(bytes.begin() + 8, std::begin(attribute), std::end(attribute));
+    {
+        std::ofstream out(path, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    }
+    for (auto read : {readMapFile(path.string()), readMapFile(bytes, path.string())}) {
+        ASSERT_FALSE(read.ok());
+        EXPECT_EQ(read.error().kind, ErrorKind::InvalidInput);
+        EXPECT_NE(read.error().message.find("cannot read map file: attribute 'note' (opaque) "
+                                            "claims more bytes than the file has left"),
+                  std::string::npos)
+            << read.error().message;
+    }
+    fs::remove(path);
+}
+
 TEST(MapFile, StaleOrMismatchedSourceIsRefused) {
     const MapSource stored{1, 5, 3, "clamp", 2.5f};
     EXPECT_TRUE(checkMapSource("m.exr", stored, stored).ok());

@@ -21,7 +21,11 @@ void addHelpCommand(CLI::App& app) {
             std::cout << sub->help();
             return;
         }
-        std::cout << app.help() << "\nTechniques (-t NAME):\n";
+        // The formatter, not app.help(): that shows the selected subcommand's help, i.e. this
+        // command's own, instead of the command list.
+        std::cout << app.get_formatter()->make_help(&app, app.get_name(),
+                                                    CLI::AppFormatMode::Normal)
+                  << "\nTechniques (-t NAME):\n";
         for (const TechniqueInfo& info : techniques()) {
             std::cout << fmt::format("  {:<18} {:<13} {}\n", info.name, toString(info.contract),
                                      info.summary);

@@ -235,16 +235,8 @@ void addRenderCommand(CLI::App& app) {
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
     cmd->get_option("--technique")->description("technique, comma-separated list, or 'all': " + techniqueNames());
-    cmd->add_option("--elevation", o->view.elevationDeg, "camera elevation above the base (degrees)")
-        ->check(CLI::Range(-90.0f, 90.0f))->capture_default_str();
-    cmd->add_option("--azimuth", o->view.azimuthDeg, "camera azimuth (degrees)")->capture_default_str();
-    cmd->add_option("--distance", o->view.distance, "camera distance in box diagonals")
-        ->check(CLI::Range(0.01f, 1000.0f))->capture_default_str();
-    cmd->add_option("--fov", o->view.fovDeg, "vertical field of view (degrees)")
-        ->check(CLI::Range(1.0f, 170.0f))->capture_default_str();
+    addCameraOptions(*cmd, o->view, o->lightElevation, o->lightAzimuth);
     cmd->add_option("--size", o->size, "image size WxH")->capture_default_str();
-    cmd->add_option("--light-elevation", o->lightElevation, "light elevation (degrees)")->capture_default_str();
-    cmd->add_option("--light-azimuth", o->lightAzimuth, "light azimuth (degrees)")->capture_default_str();
     cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
     cmd->add_option("--normal", o->normalPath, "tangent-space normal map (PNG/JPEG)");
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");

@@ -46,6 +46,19 @@ void addThreadsOption(CLI::App& app, int& threads) {
     app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
 }
 
+void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
+                      const CameraLimits& limits) {
+    app.add_option("--elevation", view.elevationDeg, "camera elevation above the base (degrees)")
+        ->check(CLI::Range(-90.0f, 90.0f))->capture_default_str();
+    app.add_option("--azimuth", view.azimuthDeg, "camera azimuth (degrees)")->capture_default_str();
+    app.add_option("--distance", view.distance, "camera distance in box diagonals")
+        ->check(CLI::Range(limits.minDistance, limits.maxDistance))->capture_default_str();
+    app.add_option("--fov", view.fovDeg, "vertical field of view (degrees)")
+        ->check(CLI::Range(limits.minFov, limits.maxFov))->capture_default_str();
+    app.add_option("--light-elevation", lightElevation, "light elevation (degrees)")->capture_default_str();
+    app.add_option("--light-azimuth", lightAzimuth, "light azimuth (degrees)")->capture_default_str();
+}
+
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
     LoadOptions load;
     load.invert = o.invert;

@@ -3,6 +3,7 @@
 // Surface and a Tracer.
 #include <relief/core/error.h>
 #include <relief/io/heightfield_io.h>
+#include <relief/render/camera.h>
 #include <relief/surface/surface.h>
 #include <relief/techniques/technique.h>
 
@@ -38,6 +39,14 @@ void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
 void addThreadsOption(CLI::App& app, int& threads);
 
+// The orbit camera and the light, as render and view take them; the viewer narrows the ranges.
+struct CameraLimits {
+    float minDistance = 0.01f, maxDistance = 1000.0f;
+    float minFov = 1.0f, maxFov = 170.0f;
+};
+void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
+                      const CameraLimits& limits = {});
+
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
 Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
                                                    std::shared_ptr<const Heightfield> hf);
@@ -68,11 +77,14 @@ inline void orFail(Status status) {
     if (!status) throw CommandFailed{status.error()};
 }
 
+// The command table (main.cpp): the global options and every command, on an empty app.
+void addCommands(CLI::App& app);
 void addInfoCommand(CLI::App& app);
 void addTraceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addHelpCommand(CLI::App& app);
 void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addViewCommand(CLI::App& app);  // cmd_view.cpp: the interactive viewer (GLFW + ImGui)
 
 }  // namespace relief::cli

@@ -3,21 +3,32 @@
 #include <relief/core/progress.h>
 
 #include <cstdio>
+#include <memory>
 
-int main(int argc, char** argv) {
-    using namespace relief::cli;
-    CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
+namespace relief::cli {
+
+void addCommands(CLI::App& app) {
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("relief ") + RELIEF_VERSION);
-    bool quiet = false;
-    app.add_flag("-q,--quiet", quiet, "no progress output")->configurable(false);
-    app.parse_complete_callback([&] { relief::Progress::setQuiet(quiet); });
+    auto quiet = std::make_shared<bool>(false);
+    app.add_flag("-q,--quiet", *quiet, "no progress output")->configurable(false);
+    app.parse_complete_callback([quiet] { relief::Progress::setQuiet(*quiet); });
     addInfoCommand(app);
     addTraceCommand(app);
     addRenderCommand(app);
     addBakeCommand(app);
     addBenchCommand(app);
+    addViewCommand(app);
     addHelpCommand(app);
+}
+
+}  // namespace relief::cli
+
+#ifndef RELIEF_CLI_NO_MAIN  // defined by fuzz/fuzz_cli.cpp's build, which has libFuzzer's main
+int main(int argc, char** argv) {
+    using namespace relief::cli;
+    CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
+    addCommands(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -37,3 +48,4 @@ int main(int argc, char** argv) {
     }
     return 0;
 }
+#endif

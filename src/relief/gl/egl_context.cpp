@@ -131,6 +131,19 @@ std::string glString(GLenum name) {
     return s ? reinterpret_cast<const char*>(s) : "?";
 }
 
+struct CurrentContextInfo {
+    std::string description;  // "ORIGIN: vendor / renderer / OpenGL version"
+    bool software = false;    // llvmpipe or softpipe
+};
+
+CurrentContextInfo describeCurrentContext(std::string_view origin) {
+    const std::string renderer = glString(GL_RENDERER);
+    return {fmt::format("{}: {} / {} / OpenGL {}", origin, glString(GL_VENDOR), renderer,
+                        glString(GL_VERSION)),
+            renderer.find("llvmpipe") != std::string::npos ||
+                renderer.find("softpipe") != std::string::npos};
+}
+
 }  // namespace
 
 Result<std::shared_ptr<EglContext>> EglContext::create() {
@@ -233,22 +246,54 @@ Result<std::shared_ptr<EglContext>> EglContext::create() {
     auto context = std::shared_ptr<EglContext>(new EglContext());
     context->m_display = won.display;
     context->m_context = won.context;
-    const std::string renderer = glString(GL_RENDERER);
-    context->m_software = softwareDevice || renderer.find("llvmpipe") != std::string::npos ||
-                          renderer.find("softpipe") != std::string::npos;
-    context->m_description = fmt::format("{}: {} / {} / OpenGL {}", platform, glString(GL_VENDOR),
-                                         renderer, glString(GL_VERSION));
+    const CurrentContextInfo info = describeCurrentContext(platform);
+    context->m_software = softwareDevice || info.software;
+    context->m_description = info.description;
     eglMakeCurrent(won.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     return context;
 }
 
-Result<std::shared_ptr<EglContext>> EglContext::shared() {
-    static std::mutex mutex;
+namespace {
+
+// The process-wide context (or the error of making it), settled once: by the first shared() or
+// by shareCurrentContext().
+struct SharedSlot {
+    std::mutex mutex;
+    std::optional<Result<std::shared_ptr<EglContext>>> context;
+};
+
+SharedSlot& sharedSlot() {
     // Never destroyed: drivers may already be unloading when static destructors run.
-    static auto* cached = new std::optional<Result<std::shared_ptr<EglContext>>>();
-    std::lock_guard lock(mutex);
-    if (!cached->has_value()) cached->emplace(create());
-    return **cached;
+    static auto* slot = new SharedSlot();
+    return *slot;
+}
+
+}  // namespace
+
+Result<std::shared_ptr<EglContext>> EglContext::shared() {
+    SharedSlot& slot = sharedSlot();
+    std::lock_guard lock(slot.mutex);
+    if (!slot.context.has_value()) slot.context.emplace(create());
+    return *slot.context;
+}
+
+Status EglContext::shareCurrentContext(std::string_view origin) {
+    SharedSlot& slot = sharedSlot();
+    std::lock_guard lock(slot.mutex);
+    if (slot.context.has_value())
+        return makeError(ErrorKind::Runtime, "GL backend: cannot adopt the {} context: the "
+                         "process already settled on another one", origin);
+    if (epoxy_gl_version() < 45)
+        return makeError(ErrorKind::Runtime, "GL backend: the {} context reports OpenGL {}.{}, "
+                         "need 4.5", origin, epoxy_gl_version() / 10, epoxy_gl_version() % 10);
+    auto context = std::shared_ptr<EglContext>(new EglContext());
+    context->m_adopted = true;
+    context->m_owner = std::this_thread::get_id();
+    const CurrentContextInfo info = describeCurrentContext(origin);
+    context->m_software = info.software;
+    context->m_description = info.description;
+    slot.context.emplace(std::move(context));
+    return {};
 }
 
 // The display is not terminated: EGL hands every caller the same display for a platform, and
@@ -258,6 +303,12 @@ EglContext::~EglContext() {
 }
 
 EglContext::Scope::Scope(const EglContext& context) : m_context(context), m_lock(context.m_mutex) {
+    if (m_context.m_adopted) {
+        // A window's context cannot be made current here; it must already be, on its thread.
+        RELIEF_CHECK(std::this_thread::get_id() == m_context.m_owner);
+        ++m_context.m_depth;
+        return;
+    }
     if (m_context.m_depth++ == 0) {
         const bool ok = eglMakeCurrent(m_context.m_display, EGL_NO_SURFACE, EGL_NO_SURFACE,
                                        m_context.m_context);

@@ -10,11 +10,18 @@
 // A GL context is current in one thread at a time, and tracers are called from worker threads,
 // so every use goes through a Scope: it locks the context's mutex, makes the context current on
 // the calling thread and releases it again when the scope ends.
+//
+// A window (relief view) brings its own context: shareCurrentContext() makes the context current
+// on the calling thread the shared one instead, so the tracers draw into the window's GL objects
+// and no second context is made current beside it (GLX and EGL contexts do not mix on a thread).
+// Scopes on such an adopted context only lock the mutex; they must stay on that thread.
 #include <relief/core/error.h>
 
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
+#include <thread>
 
 namespace relief::gl {
 
@@ -28,6 +35,12 @@ public:
     // (trying every platform once is slow). The error is Unsupported when no EGL display exists at
     // all (tests skip then), Runtime when a display exists but gives no GL 4.5 core context.
     static Result<std::shared_ptr<EglContext>> shared();
+
+    // Adopts the OpenGL 4.5 core context current on this thread (made by a window system, named
+    // by `origin`) as the shared context; the caller keeps it alive and current on this thread
+    // while GL objects exist. An error when shared() has already settled on a context, or when
+    // no GL 4.5 context is current.
+    static Status shareCurrentContext(std::string_view origin);
 
     // Which platform and device won, and GL_VENDOR / GL_RENDERER / GL_VERSION.
     const std::string& description() const { return m_description; }
@@ -53,7 +66,9 @@ private:
     EglContext() = default;
 
     void* m_display = nullptr;  // EGLDisplay
-    void* m_context = nullptr;  // EGLContext
+    void* m_context = nullptr;  // EGLContext; null for an adopted context
+    bool m_adopted = false;     // shareCurrentContext: current on m_owner, never switched
+    std::thread::id m_owner;
     std::string m_description;
     bool m_software = false;
     mutable std::recursive_mutex m_mutex;

@@ -13,6 +13,7 @@ void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
 void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
 void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void deleteRenderbuffer(GLuint id) { glDeleteRenderbuffers(1, &id); }
+void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
 
 void GlBuffer::ensure(size_t bytes, GLenum usage) {
     if (m_name.id() && bytes <= m_capacity) return;

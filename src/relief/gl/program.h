@@ -48,11 +48,13 @@ void deleteBuffer(GLuint id);
 void deleteVertexArray(GLuint id);
 void deleteFramebuffer(GLuint id);
 void deleteRenderbuffer(GLuint id);
+void deleteTexture(GLuint id);
 
 using GlProgram = GlName<deleteProgram>;
 using GlVertexArray = GlName<deleteVertexArray>;
 using GlFramebuffer = GlName<deleteFramebuffer>;
 using GlRenderbuffer = GlName<deleteRenderbuffer>;
+using GlTexture = GlName<deleteTexture>;
 
 // A storage buffer that grows on demand (glNamedBufferData, GL_DYNAMIC_* usage).
 class GlBuffer {

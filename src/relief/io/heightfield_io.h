@@ -4,6 +4,7 @@
 #include <relief/core/image.h>
 
 #include <optional>
+#include <span>
 #include <string>
 
 namespace relief {
@@ -33,5 +34,12 @@ Result<RawLayout> parseRawLayout(const std::string& text);
 
 // Colour images (for --color, --normal): 8-bit RGB from PNG/JPEG.
 Result<ImageRgb8> loadColorImage(const std::string& path);
+
+// The same readers on bytes in memory (a file's content; `name` stands for the path in messages).
+// options.raw and options.maxSamples apply as for files; there are no generators here.
+Result<Heightfield> decodeHeightfield(std::span<const unsigned char> bytes,
+                                      const std::string& name, const LoadOptions& options = {});
+Result<ImageRgb8> decodeColorImage(std::span<const unsigned char> bytes, const std::string& name,
+                                   int64_t maxSamples = kDefaultMaxSamples);
 
 }  // namespace relief

@@ -8,13 +8,6 @@ namespace relief {
 
 namespace {
 
-Result<FileReader> openImageFile(const std::string& path) {
-    auto file = FileReader::open(path);
-    if (file && file->size() == 0)
-        return makeError(ErrorKind::InvalidInput, "{}: empty file", path);
-    return file;
-}
-
 Error unrecognized(const std::string& path) {
     return makeError(ErrorKind::InvalidInput,
                      "{}: not a PNG/JPEG/EXR/PFM file (unrecognized header); headerless samples "
@@ -48,9 +41,9 @@ Result<std::unique_ptr<HeightDecoder>> makeHeightDecoder(FileReader& file,
     return unrecognized(file.path());
 }
 
-Result<std::unique_ptr<ColorDecoder>> makeColorDecoder(FileReader& file) {
+Result<std::unique_ptr<ColorDecoder>> makeColorDecoder(FileReader& file, int64_t maxSamples) {
     switch (detectFormat(file.head())) {
-        case FileFormat::Png: return makePngColorDecoder(file, kDefaultMaxSamples);
+        case FileFormat::Png: return makePngColorDecoder(file, maxSamples);
         case FileFormat::Jpeg: return makeJpegColorDecoder(file);
         case FileFormat::Exr:
         case FileFormat::Pfm:
@@ -83,12 +76,12 @@ Result<Heightfield> toHeightfield(Decoded<float> decoded, const std::string& pat
     return hf;
 }
 
-}  // namespace
-
-Result<Heightfield> loadHeightfieldFile(const std::string& path, const LoadOptions& options) {
+// The shared flow of the file and in-memory entry points, on an opened reader.
+Result<Heightfield> readHeightfield(Result<FileReader> file, const LoadOptions& options) {
+    if (!file) return file.error();
+    const std::string path = file->path();
     return withoutExceptions(path, [&]() -> Result<Heightfield> {
-        auto file = openImageFile(path);
-        if (!file) return file.error();
+        if (file->size() == 0) return makeError(ErrorKind::InvalidInput, "{}: empty file", path);
         auto decoder = makeHeightDecoder(*file, options);
         if (!decoder) return decoder.error();
         auto decoded = decodeImage(**decoder, path, options.maxSamples);
@@ -97,16 +90,37 @@ Result<Heightfield> loadHeightfieldFile(const std::string& path, const LoadOptio
     });
 }
 
-Result<ImageRgb8> loadColorImage(const std::string& path) {
+Result<ImageRgb8> readColorImage(Result<FileReader> file, int64_t maxSamples) {
+    if (!file) return file.error();
+    const std::string path = file->path();
     return withoutExceptions(path, [&]() -> Result<ImageRgb8> {
-        auto file = openImageFile(path);
-        if (!file) return file.error();
-        auto decoder = makeColorDecoder(*file);
+        if (file->size() == 0) return makeError(ErrorKind::InvalidInput, "{}: empty file", path);
+        auto decoder = makeColorDecoder(*file, maxSamples);
         if (!decoder) return decoder.error();
-        auto decoded = decodeImage(**decoder, path, kDefaultMaxSamples);
+        auto decoded = decodeImage(**decoder, path, maxSamples);
         if (!decoded) return decoded.error();
         return std::move(decoded->image);
     });
+}
+
+}  // namespace
+
+Result<Heightfield> loadHeightfieldFile(const std::string& path, const LoadOptions& options) {
+    return readHeightfield(FileReader::open(path), options);
+}
+
+Result<ImageRgb8> loadColorImage(const std::string& path) {
+    return readColorImage(FileReader::open(path), kDefaultMaxSamples);
+}
+
+Result<Heightfield> decodeHeightfield(std::span<const unsigned char> bytes,
+                                      const std::string& name, const LoadOptions& options) {
+    return readHeightfield(FileReader::fromMemory(bytes, name), options);
+}
+
+Result<ImageRgb8> decodeColorImage(std::span<const unsigned char> bytes, const std::string& name,
+                                   int64_t maxSamples) {
+    return readColorImage(FileReader::fromMemory(bytes, name), maxSamples);
 }
 
 }  // namespace relief

@@ -45,6 +45,21 @@ Status checkFrame(const std::string& path, unsigned char marker,
     return {};
 }
 
+// stb_image builds each Huffman table without checking that its 16 code counts add up to at most
+// 256 symbols, and writes past its 257-entry size table when they do (found by fuzz_jpeg). A DHT
+// segment holds tables of: class/id, 16 counts, then as many symbols as the counts add up to.
+bool huffmanTablesValid(std::span<const unsigned char> segment) {
+    size_t pos = 0;
+    while (pos < segment.size()) {
+        if (pos + 17 > segment.size()) return false;
+        size_t symbols = 0;
+        for (size_t i = 1; i <= 16; ++i) symbols += segment[pos + i];
+        if (symbols > 256) return false;
+        pos += 17 + symbols;
+    }
+    return pos == segment.size();
+}
+
 // Walks the segments from SOI to EOI; segment lengths are trusted only as far as the file goes.
 Status checkJpegStructure(const std::string& path, std::span<const unsigned char> bytes) {
     auto truncated = [&] {
@@ -71,6 +86,9 @@ Status checkJpegStructure(const std::string& path, std::span<const unsigned char
         pos += length;
         if (pos > bytes.size()) return truncated();
         if (Status s = checkFrame(path, marker, bytes.subspan(segment, length - 2)); !s) return s;
+        if (marker == 0xc4 && !huffmanTablesValid(bytes.subspan(segment, length - 2)))
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: corrupt JPEG: bad Huffman table at byte {}", path, segment);
         if (marker == 0xda) pos = skipEntropyData(bytes, pos);  // SOS: scan data follows
     }
 }

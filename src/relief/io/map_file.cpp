@@ -1,6 +1,7 @@
 #include <relief/io/map_file.h>
 
 #include <relief/core/heightfield.h>
+#include <relief/io/exr_stream.h>
 #include <relief/io/image_write.h>
 
 #include <ImfChannelList.h>
@@ -100,7 +101,6 @@ Result<MapArray> readArray(const std::string& path, Imf::MultiPartInputFile& fil
     a.name = name ? name->value() : "";
     const Imath::Box2i window = h.dataWindow();
     const int64_t w = int64_t(window.max.x) - window.min.x + 1, ht = int64_t(window.max.y) - window.min.y + 1;
-    if (Status s = checkDimensions(path, w, ht); !s) return s.error();
     a.channels = 0;
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
         if (a.channels >= kMaxChannels || std::string(it.name()) != kChannelNames[a.channels] ||
@@ -110,6 +110,8 @@ Result<MapArray> readArray(const std::string& path, Imf::MultiPartInputFile& fil
     }
     if (a.channels == 0)
         return makeError(ErrorKind::InvalidInput, "{}: part '{}' has no channels", path, h.name());
+    // The sample limit counts floats, so a part's channels count too (8 channels: 8 GiB otherwise).
+    if (Status s = checkDimensions(path, w, ht, kDefaultMaxSamples / a.channels); !s) return s.error();
     a.width = int(w);
     a.height = int(ht);
     a.data.resize(size_t(w) * size_t(ht) * size_t(a.channels));
@@ -165,38 +167,61 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
     });
 }
 
-Result<MapFile> readMapFile(const std::string& path) {
-    try {
-        Imf::MultiPartInputFile file(path.c_str());
-        MapFile maps;
-        for (int p = 0; p < file.parts(); ++p) {
-            const Imf::Header& h = file.header(p);
-            const auto* version = attribute<Imf::IntAttribute>(h, "relief.version");
-            const auto* technique = attribute<Imf::StringAttribute>(h, "relief.technique");
-            const auto* parameters = attribute<Imf::StringAttribute>(h, "relief.parameters");
-            if (!version || !technique || !parameters)
-                return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
-            if (version->value() != kMapFormatVersion)
-                return makeError(ErrorKind::Unsupported, "{}: map format version {} (this relief reads {}); bake it again",
-                                 path, version->value(), kMapFormatVersion);
-            auto source = readSource(path, h);
-            if (!source) return source.error();
-            if (p == 0) maps.source = *source;
-            else if (source->heightfieldHash != maps.source.heightfieldHash)
-                return makeError(ErrorKind::InvalidInput, "{}: parts come from different heightfields", path);
-            auto array = readArray(path, file, p);
-            if (!array) return array.error();
-            TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(technique->value()));
-            if (!t) {
-                maps.techniques.push_back({technique->value(), decodeParameters(parameters->value()), {}});
-                t = &maps.techniques.back();
-            }
-            t->arrays.push_back(std::move(*array));
+namespace {
+
+// Every part must carry relief's attributes and one source; parts of a technique are grouped.
+Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file) {
+    MapFile maps;
+    for (int p = 0; p < file.parts(); ++p) {
+        const Imf::Header& h = file.header(p);
+        const auto* version = attribute<Imf::IntAttribute>(h, "relief.version");
+        const auto* technique = attribute<Imf::StringAttribute>(h, "relief.technique");
+        const auto* parameters = attribute<Imf::StringAttribute>(h, "relief.parameters");
+        if (!version || !technique || !parameters)
+            return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
+        if (version->value() != kMapFormatVersion)
+            return makeError(ErrorKind::Unsupported, "{}: map format version {} (this relief reads {}); bake it again",
+                             path, version->value(), kMapFormatVersion);
+        auto source = readSource(path, h);
+        if (!source) return source.error();
+        if (p == 0) maps.source = *source;
+        else if (source->heightfieldHash != maps.source.heightfieldHash)
+            return makeError(ErrorKind::InvalidInput, "{}: parts come from different heightfields", path);
+        auto array = readArray(path, file, p);
+        if (!array) return array.error();
+        TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(technique->value()));
+        if (!t) {
+            maps.techniques.push_back({technique->value(), decodeParameters(parameters->value()), {}});
+            t = &maps.techniques.back();
         }
-        return maps;
+        t->arrays.push_back(std::move(*array));
+    }
+    return maps;
+}
+
+// Files and bytes in memory alike: the header checks of exr_stream.h, then OpenEXR.
+Result<MapFile> readMapFile(Result<FileReader> reader) {
+    if (!reader) return reader.error();
+    const std::string path = reader->path();
+    try {
+        limitExrSizes();
+        if (auto problem = exrHeaderProblem(*reader))
+            return makeError(ErrorKind::InvalidInput, "{}: cannot read map file: {}", path,
+                             *problem);
+        ExrInputStream stream(*reader);
+        Imf::MultiPartInputFile file(stream);
+        return readParts(path, file);
     } catch (const std::exception& e) {
         return makeError(ErrorKind::InvalidInput, "{}: cannot read map file: {}", path, e.what());
     }
+}
+
+}  // namespace
+
+Result<MapFile> readMapFile(const std::string& path) { return readMapFile(FileReader::open(path)); }
+
+Result<MapFile> readMapFile(std::span<const unsigned char> bytes, const std::string& name) {
+    return readMapFile(FileReader::fromMemory(bytes, name));
 }
 
 Status checkMapSource(const std::string& path, const MapSource& stored, const MapSource& current) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,8 @@ struct MapFile {
 
 Status writeMapFile(const std::string& path, const MapFile& maps);
 Result<MapFile> readMapFile(const std::string& path);
+// The same reader on a map file's bytes in memory (`name` stands for the path in messages).
+Result<MapFile> readMapFile(std::span<const unsigned char> bytes, const std::string& name);
 
 // Refuses maps built from another heightfield, size, edge mode or depth, naming the difference.
 Status checkMapSource(const std::string& path, const MapSource& stored, const MapSource& current);

@@ -52,6 +52,22 @@ private:
     bool m_truncated = false;
 };
 
+// libpng allocates (and clears) an ancillary chunk's declared length before reading it, so one
+// damaged length field makes a file of a hundred bytes cost up to 2 GB. A chunk that runs past
+// the end of the file means a truncated file: the chunk lengths are walked before libpng starts.
+bool chunksFitInFile(FileReader& file) {
+    int64_t pos = 8;  // after the signature
+    unsigned char header[8];
+    while (file.seek(pos) && file.read(header, sizeof header)) {
+        const int64_t length = int64_t(header[0]) << 24 | header[1] << 16 | header[2] << 8 |
+                               header[3];
+        pos += 12 + length;  // length, type, data, CRC
+        if (pos > file.size()) return false;
+        if (std::memcmp(header + 4, "IEND", 4) == 0) break;
+    }
+    return file.seek(0);
+}
+
 void PngStream::onError(png_structp png, png_const_charp message) {
     auto* self = static_cast<PngStream*>(png_get_error_ptr(png));
     std::snprintf(self->m_message, sizeof self->m_message, "%s", message);
@@ -103,6 +119,10 @@ void PngStream::setTransforms(PngTarget target) {
 Status PngStream::readInfo(PngTarget target) {
     if (!m_png || !m_info)
         return makeError(ErrorKind::Runtime, "{}: cannot create a PNG reader", m_file.path());
+    if (!chunksFitInFile(m_file)) {
+        m_truncated = true;
+        return failure();
+    }
     if (setjmp(png_jmpbuf(m_png))) return headerFailure();
     png_set_read_fn(m_png, this, onRead);
     png_set_user_limits(m_png, kMaxDimension, kMaxDimension);

@@ -24,10 +24,28 @@ Result<FileReader> FileReader::open(const std::string& path) {
     if (!S_ISREG(info.st_mode))
         return makeError(ErrorKind::Io, "{}: cannot open: not a regular file", path);
     reader.m_size = int64_t(info.st_size);
-    reader.m_headSize = std::fread(reader.m_head.data(), 1, reader.m_head.size(),
-                                   reader.m_file.get());
+    reader.readHead();
     if (!reader.seek(0)) return makeError(ErrorKind::Io, "{}: cannot read", path);
     return reader;
+}
+
+Result<FileReader> FileReader::fromMemory(std::span<const unsigned char> bytes, std::string name) {
+    FileReader reader;
+    reader.m_path = std::move(name);
+    // fmemopen only reads in mode "r"; it needs a non-null buffer even for zero bytes.
+    static unsigned char none = 0;
+    void* data = bytes.empty() ? &none : const_cast<unsigned char*>(bytes.data());
+    reader.m_file.reset(::fmemopen(data, bytes.size(), "r"));
+    if (!reader.m_file)
+        return makeError(ErrorKind::Io, "{}: cannot open: {}", reader.m_path, std::strerror(errno));
+    reader.m_size = int64_t(bytes.size());
+    reader.readHead();
+    if (!reader.seek(0)) return makeError(ErrorKind::Io, "{}: cannot read", reader.m_path);
+    return reader;
+}
+
+void FileReader::readHead() {
+    m_headSize = std::fread(m_head.data(), 1, m_head.size(), m_file.get());
 }
 
 bool FileReader::read(void* data, size_t bytes) {
@@ -37,6 +55,8 @@ bool FileReader::read(void* data, size_t bytes) {
 bool FileReader::seek(int64_t offset) {
     return ::fseeko(m_file.get(), off_t(offset), SEEK_SET) == 0;
 }
+
+int64_t FileReader::tell() { return int64_t(::ftello(m_file.get())); }
 
 Result<std::vector<unsigned char>> FileReader::readAll() {
     std::vector<unsigned char> bytes(static_cast<size_t>(m_size));

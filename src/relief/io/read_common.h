@@ -22,6 +22,8 @@ namespace relief {
 class FileReader {
 public:
     static Result<FileReader> open(const std::string& path);
+    // Bytes in memory read as a file named `name` (in messages); they must outlive the reader.
+    static Result<FileReader> fromMemory(std::span<const unsigned char> bytes, std::string name);
 
     const std::string& path() const { return m_path; }
     int64_t size() const { return m_size; }
@@ -29,9 +31,12 @@ public:
 
     bool read(void* data, size_t bytes);  // false on a short read
     bool seek(int64_t offset);
+    int64_t tell();
     Result<std::vector<unsigned char>> readAll();
 
 private:
+    void readHead();
+
     struct Closer {
         void operator()(std::FILE* file) const { std::fclose(file); }
     };
@@ -110,7 +115,7 @@ std::unique_ptr<HeightDecoder> makePngHeightDecoder(FileReader& file, ChannelSel
 std::unique_ptr<ColorDecoder> makePngColorDecoder(FileReader& file, int64_t maxSamples);
 std::unique_ptr<HeightDecoder> makeJpegHeightDecoder(FileReader& file, ChannelSelect select);
 std::unique_ptr<ColorDecoder> makeJpegColorDecoder(FileReader& file);
-std::unique_ptr<HeightDecoder> makeExrHeightDecoder(const FileReader& file, ChannelSelect select);
+std::unique_ptr<HeightDecoder> makeExrHeightDecoder(FileReader& file, ChannelSelect select);
 std::unique_ptr<HeightDecoder> makePfmHeightDecoder(FileReader& file, ChannelSelect select);
 std::unique_ptr<HeightDecoder> makeRawHeightDecoder(FileReader& file, const RawLayout& layout);
 

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Regenerates docs/benchmarks.md from a full `relief bench` run (the default preset: every
+# technique, fbm 512² and the Colorado DEM, four elevations, caps 8/24/200, Embree in the same
+# run). Raw outputs go to docs/bench/ (no per-run images: they would bloat the repository).
+# Usage: scripts/bench-report.sh [extra relief bench options, e.g. --threads 2]
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh" "$root/build" Release
+cd "$root"
+before=$(cut -d' ' -f1-3 /proc/loadavg)
+build/relief bench --preset default --no-images --out-dir docs/bench --markdown docs/benchmarks.md "$@"
+{
+    echo
+    echo "Load average before the run: $before; after: $(cut -d' ' -f1-3 /proc/loadavg) (on $(nproc) hardware threads)."
+    echo
+    echo "## Other measurements"
+    echo
+    echo "- [exact vs Embree in detail](benchmarks-exact-embree.md) (bench_exact_embree, quiet and shared machines)"
+    echo "- [GL backend on an NVIDIA H100](benchmarks-gpu.md) (\`relief bench --preset gpu\`)"
+    echo "- Per-technique studies: [quadtree](quadtree.md), [cones](cones.md), [qdm](qdm.md), [safety shapes](safety.md), [curves](curves.md)"
+} >> docs/benchmarks.md
+echo "bench-report: wrote docs/benchmarks.md and docs/bench/"

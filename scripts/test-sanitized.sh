@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# The sanitizer job (issue 11; docs/robustness.md): a clang build with ASan + UBSan (aborting on
+# the first report) and libFuzzer instrumentation in build-asan, then the whole test suite in it
+# (relief_tests and relief_gl_tests under llvmpipe) and a short run of every fuzz target over its
+# seed corpus. Called at the end of scripts/test.sh; runs on its own too.
+# Usage: scripts/test-sanitized.sh [BUILD_DIR]   (RELIEF_FUZZ_SECONDS: per target, default 15)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-$root/build-asan}
+fuzz_seconds=${RELIEF_FUZZ_SECONDS:-15}
+
+# clang and its sanitizer runtimes (install-deps.sh has what the gcc build needs); llvm brings
+# llvm-symbolizer for readable reports. Idempotent like install-deps.sh.
+packages=(clang libclang-rt-14-dev llvm)
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    echo "test-sanitized: installing ${missing[*]}"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+start=$SECONDS
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang \
+    -DCMAKE_CXX_COMPILER=clang++ -DRELIEF_FUZZ=ON >/dev/null
+cmake --build "$build" -j "$(nproc)"
+echo "test-sanitized: build $((SECONDS - start)) s"
+
+# Leaks are checked everywhere, except allocations made inside Mesa's GL driver stack (llvmpipe
+# and its LLVM JIT keep per-process state that they never free); a leak with only relief frames
+# is still reported.
+cat >"$build/lsan.supp" <<'SUPP'
+leak:libEGL_mesa.so
+leak:libGLX_mesa.so
+leak:libglapi.so
+leak:swrast_dri.so
+leak:libgallium
+leak:libLLVM
+SUPP
+export ASAN_OPTIONS=abort_on_error=1:detect_leaks=1:check_initialization_order=1:strict_init_order=1
+export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+export LSAN_OPTIONS=suppressions=$build/lsan.supp:print_suppressions=0
+
+start=$SECONDS
+(cd "$build" && ctest --output-on-failure -j "$(nproc)")
+echo "test-sanitized: ctest $((SECONDS - start)) s"
+
+# Fuzz smoke runs: each target over its seeds; new inputs go to a scratch corpus, never into the
+# repository's. A crash, sanitizer report, leak, timeout or out-of-memory fails the job and leaves
+# the input in $build/fuzz-artifacts.
+start=$SECONDS
+mkdir -p "$build/fuzz-artifacts"
+for seeds in "$root"/fuzz/corpus/*/; do
+    target=$(basename "$seeds")
+    scratch="$build/fuzz-corpus/$target"
+    mkdir -p "$scratch"
+    echo "test-sanitized: fuzz_$target for ${fuzz_seconds} s"
+    if ! "$build/fuzz_$target" -max_total_time="$fuzz_seconds" -timeout=20 -rss_limit_mb=4096 \
+        -print_final_stats=1 -artifact_prefix="$build/fuzz-artifacts/" "$scratch" "$seeds" \
+        >"$build/fuzz-$target.log" 2>&1; then
+        tail -n 60 "$build/fuzz-$target.log"
+        echo "test-sanitized: fuzz_$target failed (log: $build/fuzz-$target.log)" >&2
+        exit 1
+    fi
+    grep -E "^(Done|stat::number_of_executed_units)" "$build/fuzz-$target.log" | tr '\n' ' '
+    echo
+done
+echo "test-sanitized: fuzzing $((SECONDS - start)) s"
