@@ -18,10 +18,13 @@
 //   distances, b and h heights). Build (qdm_map.cpp): the max pyramid walked from F nearest
 //   first, skipping nodes below the staircase of nearer points or below the profile reached so
 //   far, until the cone is final; then branch and bound on c (nodes by the largest c_j they
-//   could need); then the paper's search over the points kept, by default on their upper convex
-//   bound (§4.1, Andrew's monotone chain). Output equals the paper's all-cells builder (tests).
-//   Time: fbm 1024² 6.6 s, peaks6 1024² 149 s on 2 loaded cores (long cone phases on gently
-//   rising ground); memory: the pyramid plus 16 bytes per texel.
+//   could need); after 256 pops without a final cone, the cone by bisection on its slope
+//   (a monotone "no steeper point within reach" test, pruned pyramid searches that skip the disc
+//   already walked); then the paper's search over the points kept, by default on their upper
+//   convex bound (§4.1, Andrew's monotone chain). Output equals the paper's all-cells builder
+//   (tests, both paths). Time per texel: the walk is linear in the staircase's length (one point
+//   per ring on gently rising ground), so peaks6 grows ~N³: 256² 1.6 s, 512² 12.5 s CPU
+//   (docs/qdm.md); fbm 1024² 6.6 s wall. Memory: the pyramid plus 16 bytes per texel.
 // Steps = quadric steps + exact cell tests; fetches = 1 per quadric step + 4 per cell test.
 // Departures: the apex is the max of S over the footprint and distances run from the
 //   footprint (the published centre apex is not conservative on S between samples or off the

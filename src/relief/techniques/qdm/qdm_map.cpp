@@ -25,6 +25,13 @@ float boxDistance(const Box& a, const Box& b) {
     return std::sqrt(dx * dx + dy * dy);
 }
 
+// The largest distance from a to a point of b: no box inside b is farther from a.
+float farthestDistance(const Box& a, const Box& b) {
+    const float dx = std::max({0.0f, b.x1 - a.x1, a.x0 - b.x0});
+    const float dy = std::max({0.0f, b.y1 - a.y1, a.y0 - b.y0});
+    return std::sqrt(dx * dx + dy * dy);
+}
+
 struct Point {
     float r, v;
 };
@@ -57,6 +64,12 @@ float addCell(const Surface& s, const Box& foot, float h, int ci, int cj, Radial
     return 0.0f;  // its point lies at v / g, not at r = 0: it bounds no farther node
 }
 
+// A point's cone slope as the fit computes it (rounded towards the safe side).
+float ratioOf(const Point& p) { return p.v / p.r * kRoundUp; }
+
+// The cone's reach for slope s: the fit stops at the first point beyond it.
+float reachOf(float coneHeight, float s) { return s > 0.0f ? coneHeight / s : kInfinity; }
+
 // Smallest c whose nondecreasing parabola from (a, b) reaches v at r (> a).
 float parabolaC(float a, float b, Point p) {
     const float e = p.v - b, w = p.r - a;
@@ -88,10 +101,10 @@ QdmTexel fit(Radial& radial, float h, float coneHeight, bool convex) {
     });
     const std::vector<Point>& pts = radial.points;
     float s = radial.slope * kRoundUp;
-    float a = s > 0.0f ? coneHeight / s : kInfinity;
+    float a = reachOf(coneHeight, s);
     for (const Point& p : pts) {
         if (p.r > a) break;
-        s = std::max(s, p.v / p.r * kRoundUp);
+        s = std::max(s, ratioOf(p));
         a = coneHeight / s;
     }
     if (!(s > 0.0f)) return {0.0f, 0.0f, 0.0f, h};  // nothing above the apex
@@ -116,7 +129,7 @@ public:
         if (!m_coneDone) {
             m_s = std::max(m_s, slope * kRoundUp);
             if (p.r <= cone() || p.r == m_lastR) {  // ties at r: as fit, whatever their order
-                m_s = std::max(m_s, p.v / p.r * kRoundUp);
+                m_s = std::max(m_s, ratioOf(p));
                 m_lastR = p.r;
             }
         } else if (p.r > m_a) {
@@ -136,14 +149,24 @@ public:
         return d <= m_a ? m_s * d : m_b + u * (2.0f * (m_c - m_a) - u);
     }
 
+    // The cone found by the bisection (the fit's final slope): the parabola search follows.
+    void finishConeAt(float s, const Radial& radial) {
+        m_s = s;
+        finishCone(radial);
+    }
     bool coneDone() const { return m_coneDone; }
+    float slope() const { return m_s; }
     float c() const { return m_c; }
-    // The largest c_j a cell at distance ≥ d (> a) and height ≤ v can need (c_j is
-    // nonincreasing in r and nondecreasing in v).
-    float cBound(float d, float v) const { return parabolaC(m_a, m_b, {d, v}); }
+    // The largest c_j a cell at distance ≥ d and height ≤ v can need (c_j is nonincreasing in
+    // r and nondecreasing in v). A node reaching down to a can hold points just beyond a, whose
+    // c_j has no bound unless they are under b (then c_j = a).
+    float cBound(float d, float v) const {
+        if (d > m_a) return parabolaC(m_a, m_b, {d, v});
+        return v > m_b ? kInfinity : m_a;
+    }
 
 private:
-    float cone() const { return m_s > 0.0f ? m_coneHeight / m_s : kInfinity; }
+    float cone() const { return reachOf(m_coneHeight, m_s); }
     void finishCone(const Radial& radial) {
         m_coneDone = true;
         m_a = cone();
@@ -177,7 +200,8 @@ public:
         const float h = safeApexHeight(m_s, i, j);
         const Box foot{float(i), float(j), float(i + 1), float(j + 1)};
         Radial radial;
-        staircase(foot, h, radial);
+        Walked walked;
+        if (!staircase(foot, h, radial, walked)) bisectCone(i, j, foot, h, walked, radial);
         return fit(radial, h, coneHeight(), m_params.convexBound);
     }
 
@@ -198,6 +222,9 @@ public:
     }
 
 private:
+    struct Walked {  // where the walk stopped and the slope it had reached
+        float distance = 0.0f, slope = 0.0f;
+    };
     struct Node {
         float distance;
         int level, x, y, shift;
@@ -225,7 +252,9 @@ private:
     // Best-first by distance. A node is skipped when no cell in it can change the fit: no higher
     // than the best point found nearer (staircase), or under the profile the fit has reached so
     // far at the node's distance (it only grows: s and c only increase, b = cone height).
-    void staircase(const Box& foot, float h, Radial& radial) const {
+    // False when the cone is not final after the budget of pops (a long staircase on gently
+    // rising ground: one point per ring), for bisectCone to take over from `walked`.
+    bool staircase(const Box& foot, float h, Radial& radial, Walked& walked) const {
         thread_local std::vector<Node> heap;
         heap.clear();
         for (int k = 0; k < int(m_shifts.size()); ++k)
@@ -233,17 +262,24 @@ private:
         std::make_heap(heap.begin(), heap.end());
         RunningFit running(coneHeight());
         float best = 0.0f;
-        while (!heap.empty()) {
+        float last = 0.0f;
+        for (int64_t pops = 0; !heap.empty(); ++pops) {
+            // Hand over between distances: the fit takes the highest of tied points first.
+            if (pops > m_params.staircaseBudget && heap.front().distance > last) {
+                walked = {heap.front().distance, running.slope()};
+                return false;
+            }
             std::pop_heap(heap.begin(), heap.end());
             const Node n = heap.back();
             heap.pop_back();
+            last = n.distance;
             if (n.distance > m_reach) break;
             const float v = m_pyramid.at(n.level, n.x, n.y) - h;
             if (v <= best || v <= running.lowerBound(n.distance, radial)) continue;
             if (running.coneDone()) {  // the cone is final: the rest only raises c, in any order
                 heap.push_back(n);
                 maximizeC(foot, h, heap, running, radial);
-                return;
+                return true;
             }
             if (n.level == 0) {
                 const ivec2 cell = globalCell(n.x, n.y, m_shifts[size_t(n.shift)]);
@@ -265,6 +301,175 @@ private:
                     std::push_heap(heap.begin(), heap.end());
                 }
         }
+        return true;
+    }
+
+    // ---- The cone by bisection ----------------------------------------------------------------
+    // The fit's cone loop, restated. Call the slopes at which it raises s records (s0 = the
+    // overlapping cells' slope, then every point steeper than all nearer ones). After record
+    // s_k the loop goes on exactly while some point within reach(s_k) is steeper than s_k, so
+    // it ends at the first record s with
+    //     final(s):  no point p with r_p ≤ reach(s) has slope(p) > s,
+    // reach(s) = coneHeight / s evaluated as the fit evaluates it. final is monotone in s
+    // (reach shrinks as s grows), so once lo is known not to be final, the first record above
+    // lo is the first point (in the fit's order) steeper than lo, and the answer is that
+    // point's slope as soon as it is final. Bisecting lo between a value that is not final and
+    // one that is skips the long runs of records one ring apart; each query is a pruned
+    // pyramid search. The fit then meets the same loop on the points kept (the overlapping
+    // cells, the final record, the parabola's points) and ends on the same slope.
+    // It starts where the walk stopped: every point nearer than `walked.distance` is no steeper
+    // than the walk's slope (it took it or pruned it), which is a record not yet known final,
+    // every smaller record having been passed. The queries skip that disc.
+    struct Probe {
+        Box foot;
+        float h;
+        float walked;                    // no point nearer is steeper than any s tested
+        std::vector<Point> overlapping;  // the cells at distance 0, as points (v / G, v)
+    };
+
+    void bisectCone(int i, int j, const Box& foot, float h, const Walked& walked,
+                    Radial& radial) const {
+        Probe probe{foot, h, walked.distance, {}};
+        Radial overlapping;
+        for (int cj = j - 1; cj <= j; ++cj)
+            for (int ci = i - 1; ci <= i; ++ci) addCell(m_s, foot, h, ci, cj, overlapping);
+        probe.overlapping = overlapping.points;
+        radial.slope = std::max(radial.slope, overlapping.slope);  // the walk may not be there yet
+        radial.points.insert(radial.points.end(), overlapping.points.begin(),
+                             overlapping.points.end());
+        float lo = std::max(walked.slope, overlapping.slope * kRoundUp);
+        if (!isFinal(probe, lo)) {
+            float hi = std::max(lo, steepestWithin(probe, reachOf(coneHeight(), lo)));  // final
+            while (true) {
+                const Point first = firstSteeperThan(probe, lo);
+                lo = ratioOf(first);
+                if (lo >= hi || isFinal(probe, lo)) {
+                    radial.points.push_back(first);
+                    break;
+                }
+                const float mid = std::sqrt(lo) * std::sqrt(hi);
+                if (mid > lo && mid < hi) (isFinal(probe, mid) ? hi : lo) = mid;
+            }
+        }
+        RunningFit running(coneHeight());
+        running.finishConeAt(lo, radial);
+        maximizeC(foot, h, rootsOf(foot), running, radial);
+    }
+
+    // The point of a level-0 node (a cell) not overlapping the footprint, as addCell makes it.
+    Point cellPoint(const Node& n, float h) const {
+        const ivec2 cell = globalCell(n.x, n.y, m_shifts[size_t(n.shift)]);
+        const CellCorners k = m_s.cellCorners(cell.x, cell.y);
+        return {n.distance, std::max({k.z00, k.z10, k.z01, k.z11}) - h};
+    }
+    // Bounds the slope of every point in the node (0: nothing above the apex). Overlapping
+    // cells are left to Probe::overlapping.
+    float slopeBound(const Node& n, float h) const {
+        const float v = m_pyramid.at(n.level, n.x, n.y) - h;
+        if (v <= 0.0f) return 0.0f;
+        if (n.distance > 0.0f) return v / n.distance * kRoundUp;
+        return n.level > 0 ? kInfinity : 0.0f;
+    }
+    template <class Visit>
+    void forChildren(const Node& n, const Box& foot, Visit&& visit) const {
+        for (int dy = 0; dy < 2; ++dy)
+            for (int dx = 0; dx < 2; ++dx) {
+                const int x = 2 * n.x + dx, y = 2 * n.y + dy;
+                if (x < m_layout.widthAt(n.level - 1) && y < m_layout.heightAt(n.level - 1))
+                    visit(node(foot, n.level - 1, x, y, n.shift));
+            }
+    }
+    std::vector<Node> rootsOf(const Box& foot) const {
+        std::vector<Node> roots;
+        for (int k = 0; k < int(m_shifts.size()); ++k)
+            roots.push_back(node(foot, m_layout.topLevel(), 0, 0, k));
+        return roots;
+    }
+
+    // Whether the node holds no point the walk left (all nearer than where it stopped).
+    bool walkedPast(const Node& n, const Probe& probe) const {
+        return farthestDistance(probe.foot, nodeBox(n.level, n.x, n.y, m_shifts[size_t(n.shift)])) <
+               probe.walked;
+    }
+
+    // final(s): no point within reach(s) steeper than s (depth first, stops at the first one).
+    bool isFinal(const Probe& probe, float s) const {
+        const float reach = std::min(reachOf(coneHeight(), s), m_reach);
+        for (const Point& p : probe.overlapping)
+            if (!(p.r > reach) && ratioOf(p) > s) return false;
+        thread_local std::vector<Node> stack;
+        stack = rootsOf(probe.foot);
+        while (!stack.empty()) {
+            const Node n = stack.back();
+            stack.pop_back();
+            if (n.distance > reach || !(slopeBound(n, probe.h) > s) || walkedPast(n, probe))
+                continue;
+            if (n.level == 0) {
+                if (ratioOf(cellPoint(n, probe.h)) > s) return false;
+                continue;
+            }
+            forChildren(n, probe.foot, [&](const Node& kid) { stack.push_back(kid); });
+        }
+        return true;
+    }
+
+    // The first point in the fit's order (nearest, then highest) steeper than lo; one exists
+    // within reach(lo) because lo is not final.
+    Point firstSteeperThan(const Probe& probe, float lo) const {
+        const float reach = std::min(reachOf(coneHeight(), lo), m_reach);
+        auto before = [](const Point& p, const Point& q) {
+            return p.r < q.r || (p.r == q.r && p.v > q.v);
+        };
+        Point first{kInfinity, 0.0f};
+        for (const Point& p : probe.overlapping)
+            if (ratioOf(p) > lo && before(p, first)) first = p;
+        thread_local std::vector<Node> heap;
+        heap = rootsOf(probe.foot);
+        std::make_heap(heap.begin(), heap.end());
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end());
+            const Node n = heap.back();
+            heap.pop_back();
+            if (n.distance > first.r || n.distance > reach) break;
+            if (!(slopeBound(n, probe.h) > lo) || walkedPast(n, probe)) continue;
+            if (n.level == 0) {
+                const Point p = cellPoint(n, probe.h);
+                if (ratioOf(p) > lo && before(p, first)) first = p;
+                continue;
+            }
+            forChildren(n, probe.foot, [&](const Node& kid) {
+                heap.push_back(kid);
+                std::push_heap(heap.begin(), heap.end());
+            });
+        }
+        RELIEF_CHECK(first.r < kInfinity);
+        return first;
+    }
+
+    // The steepest slope of the points within reach (branch and bound on slopeBound).
+    float steepestWithin(const Probe& probe, float reach) const {
+        reach = std::min(reach, m_reach);
+        float best = 0.0f;
+        for (const Point& p : probe.overlapping)
+            if (!(p.r > reach)) best = std::max(best, ratioOf(p));
+        thread_local std::vector<std::pair<float, Node>> heap;
+        heap.clear();
+        auto push = [&](const Node& n) {
+            const float bound = slopeBound(n, probe.h);
+            if (n.distance > reach || !(bound > best) || walkedPast(n, probe)) return;
+            heap.push_back({bound, n});
+            std::push_heap(heap.begin(), heap.end(), byBound);
+        };
+        for (const Node& root : rootsOf(probe.foot)) push(root);
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), byBound);
+            const auto [bound, n] = heap.back();
+            heap.pop_back();
+            if (!(bound > best)) break;
+            if (n.level > 0) forChildren(n, probe.foot, push);
+            else best = std::max(best, ratioOf(cellPoint(n, probe.h)));
+        }
+        return best;
     }
 
     // Branch and bound for c = max c_j: nodes by the largest c_j a cell in them could need.

@@ -20,7 +20,10 @@
 //   a nearer, higher one changes neither s nor c), and no point under the profile reached so
 //   far (s, c only grow), which is what lets the fast builder prune pyramid nodes while walking
 //   them nearest first; once the cone is final, c = max c_j does not depend on order and is
-//   found by branch and bound.
+//   found by branch and bound. Where the walk meets a long staircase (gently rising ground: a
+//   record every ring) it hands over to a bisection on s: the loop ends on the first record s
+//   with no point within coneHeight / s steeper than s, a condition monotone in s (proof and
+//   search in qdm_map.cpp, QdmSearch::bisectCone).
 #include <relief/io/map_file.h>
 #include <relief/techniques/technique.h>
 
@@ -37,6 +40,9 @@ struct QdmBuildParams {
     float heightRatio = 0.2f;
     float maxDistance = 0.0f;  // 0 = unlimited
     bool convexBound = true;
+    // Pops of the nearest-first walk per texel before the cone is found by bisection instead
+    // (same result; tests force each path with 0 and a huge budget).
+    int64_t staircaseBudget = 256;
     static QdmBuildParams from(const ParamValues& params);
 };
 

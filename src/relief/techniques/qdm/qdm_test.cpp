@@ -1,6 +1,6 @@
 // qdm: the map invariant against dense sampling of S from positions anywhere in the texel, the
-// fast builder against the paper's all-cells builder, plain vs convex-bound search, the stable
-// root, baked-map validation and the contract with a finite max-distance.
+// fast builder (walk and bisection) against the paper's all-cells builder, plain vs convex-bound
+// search, the stable root, baked-map validation and the contract with a finite max-distance.
 #include <relief/techniques/cone/cone_test_support.h>
 
 #include <relief/techniques/qdm/qdm.h>
@@ -54,22 +54,35 @@ TEST(QdmMap, ProfileBoundsSFromAnyPositionInTheTexel) {
                 }
 }
 
+// The fast builder, plain and with the convex bound, and with the bisection that takes over long
+// staircases (from the root with budget 0, mid-walk with 16), against the paper's all-cells
+// builder: the same map up to float rounding (pruning compares v with s·d, the fit v / r).
 TEST(QdmMap, FastBuilderAndConvexBoundEqualThePapersBuilder) {
-    for (const char* g : {"fbm", "walls", "terraces", "spikes"})
+    struct Variant {
+        bool convex;
+        int64_t staircaseBudget;
+    };
+    const int64_t defaultBudget = QdmBuildParams{}.staircaseBudget;
+    const Variant variants[] = {{false, defaultBudget}, {true, defaultBudget}, {true, 0}, {true, 16}};
+    for (const char* g : {"fbm", "walls", "terraces", "spikes", "peaks6"})
         for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
             for (float ratio : {0.2f, 0.5f, 0.0f}) {
                 const auto s = testing::makeSurface(g, 13, 10, edge);
                 const auto brute = buildQdmBruteForce(*s, {ratio, 0.0f, false});
-                for (bool convex : {false, true}) {
-                    const auto fast = buildQdm(*s, {ratio, 0.0f, convex});
+                for (const Variant& v : variants) {
+                    QdmBuildParams params{ratio, 0.0f, v.convex};
+                    params.staircaseBudget = v.staircaseBudget;
+                    const auto fast = buildQdm(*s, params);
                     ASSERT_EQ(fast.size(), brute.size());
                     for (size_t k = 0; k < fast.size(); ++k) {
-                        ASSERT_EQ(fast[k].h, brute[k].h) << g << " texel " << k;
-                        // Equal up to float rounding (pruning compares v with s·d, the fit v / r).
-                        ASSERT_NEAR(fast[k].a, brute[k].a, 1e-5f * (1.0f + brute[k].a)) << k;
-                        ASSERT_NEAR(fast[k].b, brute[k].b, 1e-5f * (1.0f + brute[k].b)) << k;
-                        ASSERT_NEAR(fast[k].c, brute[k].c, 1e-5f * (1.0f + brute[k].c))
-                            << g << " ratio " << ratio << " convex " << convex << " texel " << k;
+                        const QdmTexel &f = fast[k], &b = brute[k];
+                        SCOPED_TRACE(::testing::Message() << g << " " << toString(edge) << " ratio " << ratio
+                                                          << " convex " << v.convex << " budget "
+                                                          << v.staircaseBudget << " texel " << k);
+                        ASSERT_EQ(f.h, b.h);
+                        ASSERT_NEAR(f.a, b.a, 1e-5f * (1.0f + b.a));
+                        ASSERT_NEAR(f.b, b.b, 1e-5f * (1.0f + b.b));
+                        ASSERT_NEAR(f.c, b.c, 1e-5f * (1.0f + b.c));
                     }
                 }
             }
