@@ -40,6 +40,17 @@ struct BenchOptions {
 
 using Row = BenchRow;
 
+Row newRow(std::string technique, std::string contract, std::string map, std::string backend, float elevation, int cap) {
+    Row row;
+    row.technique = std::move(technique);
+    row.contract = std::move(contract);
+    row.map = std::move(map);
+    row.backend = std::move(backend);
+    row.elevation = elevation;
+    row.cap = cap;
+    return row;
+}
+
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -200,7 +211,7 @@ private:
     void runTechnique(const TechniqueInfo& info, const std::string& map, float elevation, int cap,
                       const Surface& surface, const Camera& camera, const BuiltTracer& built,
                       const Image<Hit>& reference, bool images) {
-        Row row{std::string(info.name), std::string(toString(info.contract)), map, "cpu", elevation, cap};
+        Row row = newRow(std::string(info.name), std::string(toString(info.contract)), map, "cpu", elevation, cap);
         Image<Hit> hits;
         const double seconds = bestOf(m_config.repeats, [&] { hits = tracePrimary(camera, *built.tracer); });
         row.stats = compareHits(hits, reference);
@@ -232,7 +243,7 @@ private:
         const GlFrameTiming timing = orFail(timeGlFrame(info, input, uniforms, {m_config.glFrames, 2}));
         Image<Hit> hits(camera.width(), camera.height());
         hits.pixels = orFail(traceGlCamera(info, input, uniforms));
-        Row row{std::string(info.name), std::string(toString(info.contract)), map, "gl", elevation, cap};
+        Row row = newRow(std::string(info.name), std::string(toString(info.contract)), map, "gl", elevation, cap);
         row.stats = compareHits(hits, reference);
         row.msPerFrame = timing.msPerFrame;
         row.mraysPerSecond = double(hits.pixels.size()) / (timing.msPerFrame * 1e-3) / 1e6;
@@ -244,7 +255,7 @@ private:
 
     void runMesh(const std::string& map, float elevation, const Surface& surface, const Camera& camera) {
         const GlFrameTiming timing = orFail(timeRasterizedMesh(surface, gl::cameraUniforms(camera), {m_config.glFrames, 2}));
-        Row row{"mesh", "peer", map, "gl", elevation, 0};
+        Row row = newRow("mesh", "peer", map, "gl", elevation, 0);
         row.msPerFrame = timing.msPerFrame;
         row.mraysPerSecond = double(camera.width()) * camera.height() / (timing.msPerFrame * 1e-3) / 1e6;
         m_rows.push_back(std::move(row));
@@ -269,7 +280,7 @@ private:
             });
             Image<Hit> image(camera.width(), camera.height());
             for (size_t k = 0; k < hits.size(); ++k) image.pixels[packet == 1 ? k : order[k]] = hits[k];
-            Row row{packet == 1 ? "embree-1" : "embree-16", "peer", map, "cpu", elevation, 0};
+            Row row = newRow(packet == 1 ? "embree-1" : "embree-16", "peer", map, "cpu", elevation, 0);
             row.stats = compareHits(image, reference);
             row.mraysPerSecond = double(hits.size()) / seconds / 1e6;
             row.msPerFrame = 1000.0 * seconds;

@@ -15,7 +15,10 @@
 //   between sample centres. S between samples and positions off the texel centre can enter the
 //   cone: approximate (measured in cone_test.cpp and docs/cones.md).
 // Map: "cones", 2 channels (a, c) per texel, W×H; float32 or 16/8-bit codes rounded to the safe
-//   side (cone_common.h). Build: pyramid-pruned search, O(WH · cells inside the cone), parallel.
+//   side (cone_common.h). Build: pyramid-pruned search (cone_common.h), O(WH · nodes near the
+//   cone), parallel over rows, 8 bytes per texel plus the max pyramid; equal to the Θ(N⁴) brute
+//   force to the bit. 1024² fbm on two threads: safe 1.9 s wall / 1.4 s CPU, faithful 5.2 s /
+//   3.5 s on a loaded machine (docs/cones.md; about 4.5× per doubling of the side).
 // Steps = cone steps + exact cell tests; fetches = 1 per cone step + 4 per cell test.
 // Departures: the footprint frustum (rather than a point apex) and the exact finish make the
 //   method conservative on S; the map is fetched nearest-texel (no interpolation between

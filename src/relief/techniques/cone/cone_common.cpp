@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdlib>
+#include <limits>
 
 namespace relief {
 
@@ -67,18 +68,23 @@ float firstAboveInCell(const CellPlanes& planes, const Ray& ray, int ci, int cj,
     return lo <= hi ? lo : kInfinity;
 }
 
-// First t in [t0, t1] where the ray is above S (out of the solid); t1 when there is none.
-float firstExit(const Surface& s, const Ray& ray, float t0, float t1) {
+// First t ≥ t0 where the ray is above S (out of the solid): tExit when it stays in the solid up
+// to tExit, kInfinity when it does up to the cell where `tStop` falls (the walk goes no further).
+// Each cell is tested over its whole span below tExit, whatever tStop is: an exit point is an
+// ill-conditioned interpolation where the ray grazes a plane, and computing it on the same
+// interval makes it the same float for every tStop (search and brute force agree to the bit).
+float firstExit(const Surface& s, const Ray& ray, float t0, float tStop, float tExit) {
     const float margin = 1e-5f * (1.0f + s.depth());
-    for (float t = t0; t < t1;) {
-        const CellSpan c = cellAt(s, ray, t, t1);
+    for (float t = t0; t < tExit;) {
+        const CellSpan c = cellAt(s, ray, t, tExit);
         const float e = firstAboveInCell(s.cellPlanes(c.ci, c.cj), ray, c.ci, c.cj, t, c.tb,
                                          margin);
         if (e <= c.tb) return e;
-        if (c.tb >= t1) break;
+        if (c.tb >= tStop && c.tb < tExit) return kInfinity;
+        if (c.tb >= tExit) break;
         t = c.tb;
     }
-    return t1;
+    return tExit;
 }
 
 // Policarpo & Oliveira: the ray from the box top above the apex through sample q, followed past
@@ -96,9 +102,8 @@ float relaxedRatio(const Surface& s, const Apex& apex, vec3 q, float c) {
     const float tStop = std::isfinite(c)
                             ? (c * (q.z - apex.a) - reach) / (vh - c * ray.direction.z)
                             : kInfinity;
-    const float tEnd = std::min(span.tExit, std::max(0.0f, tStop));
-    const float tc = firstExit(s, ray, 0.0f, tEnd);
-    if (tc >= tEnd && tEnd < span.tExit) return kInfinity;
+    const float tc = firstExit(s, ray, 0.0f, std::max(0.0f, tStop), span.tExit);
+    if (!(tc <= span.tExit)) return kInfinity;
     const vec3 exit = ray.at(tc);
     if (exit.z <= apex.a) return kInfinity;
     return glm::length(vec2(exit.x - top.x, exit.y - top.y)) / (exit.z - apex.a);
@@ -140,17 +145,44 @@ std::vector<ivec2> tileShifts(const Surface& s, float cMax) {
     return shifts;
 }
 
+// The narrowest cone found so far for one apex and the cell that set it (kNoCell while c is
+// still the cap): that cell is the next texel's first guess.
+constexpr ivec2 kNoCell{std::numeric_limits<int>::min()};
+struct Best {
+    float c;
+    ivec2 cell = kNoCell;
+    void offer(float ratio, ivec2 at) {
+        if (ratio < c) c = ratio, cell = at;
+    }
+};
+
+// A node can hold a cell that lowers c only if dist(F, node) < c·(max − a) (every ratio in it is
+// at least dist / (max − a)); compared squared, dist² is exact (half-texel coordinates). The
+// margin keeps float rounding from ever dropping the cell that sets c, so the search returns
+// exactly the brute force's minimum.
+inline bool mayLower(float distance2, float max, float a, float c) {
+    constexpr float kRoundingMargin = 1.0f + 1e-5f;
+    const float reach = c * (max - a) * kRoundingMargin;
+    return distance2 < reach * reach;
+}
+
 class ConeSearch {
 public:
     ConeSearch(const Surface& s, ConeKind kind)
         : m_s(s), m_kind(kind), m_pyramid(s), m_layout(m_pyramid.layout()),
           m_cMax(coneRatioMax(s)), m_shifts(tileShifts(s, m_cMax)) {}
 
-    vec2 texel(int i, int j) const {
+    // `guess`: a cell that bounded a neighbouring texel (or kNoCell). Any cell's ratio is one of
+    // the values the minimum is taken over, so starting from it changes only how much of the
+    // pyramid is pruned, never the result. On return it holds the cell that set this texel's c.
+    vec2 texel(int i, int j, ivec2& guess) const {
         const Apex apex = apexOf(m_s, m_kind, i, j);
-        float c = m_cMax;
-        for (ivec2 shift : m_shifts) visitTile(apex, shift, c);
-        return {apex.a, c};
+        Best best{m_cMax};
+        if (guess != kNoCell)
+            best.offer(leafRatio(m_s, m_kind, apex, guess.x, guess.y, best.c), guess);
+        for (ivec2 shift : m_shifts) visitTile(apex, shift, best);
+        if (best.cell != kNoCell) guess = best.cell;
+        return {apex.a, best.c};
     }
 
     vec2 texelBruteForce(int i, int j) const {
@@ -159,7 +191,7 @@ public:
         for (ivec2 shift : m_shifts)
             for (int l = 0; l < m_layout.cellsY; ++l)
                 for (int k = 0; k < m_layout.cellsX; ++k) {
-                    const ivec2 cell = globalCell(k, l, shift);
+                    const ivec2 cell = tileCell(shift) + ivec2(k, l);
                     c = std::min(c, leafRatio(m_s, m_kind, apex, cell.x, cell.y, kInfinity));
                 }
         return {apex.a, c};
@@ -168,54 +200,106 @@ public:
 private:
     struct Node {
         int level, x, y;
+        float distance2;  // from the apex footprint
+        float max;        // of S over the node
     };
 
-    ivec2 globalCell(int k, int l, ivec2 shift) const {
-        return {m_layout.firstCell + k + shift.x * m_s.width(),
-                m_layout.firstCell + l + shift.y * m_s.height()};
-    }
-    Rect nodeRect(const Node& n, ivec2 shift) const {
-        const int size = 1 << n.level;
-        const ivec2 lo = globalCell(n.x * size, n.y * size, shift);
-        const ivec2 hi = globalCell(std::min((n.x + 1) * size, m_layout.cellsX),
-                                    std::min((n.y + 1) * size, m_layout.cellsY), shift);
-        return {float(lo.x) + 0.5f, float(lo.y) + 0.5f, float(hi.x) + 0.5f, float(hi.y) + 0.5f};
+    // The global cell of pyramid index (0, 0) in the tile copy `shift`.
+    ivec2 tileCell(ivec2 shift) const {
+        return ivec2(m_layout.firstCell) + shift * ivec2(m_s.width(), m_s.height());
     }
 
-    void visitTile(const Apex& apex, ivec2 shift, float& c) const {
-        std::array<Node, 4 * PyramidLayout::kMaxLevels + 4> stack;
-        int top = 0;
-        stack[top++] = {m_layout.topLevel(), 0, 0};
+    // Squared distance from F to the cells of node (level, x, y); `origin`: the lower corner of
+    // the tile copy's first cell.
+    float distance2(const Rect& foot, vec2 origin, int level, int x, int y) const {
+        auto gap = [&](int node, int cells, float base, float lo, float hi) {
+            const float nodeLo = base + float(node << level);
+            const float nodeHi = base + float(std::min((node + 1) << level, cells));
+            return std::max({0.0f, nodeLo - hi, lo - nodeHi});
+        };
+        const float dx = gap(x, m_layout.cellsX, origin.x, foot.x0, foot.x1);
+        const float dy = gap(y, m_layout.cellsY, origin.y, foot.y0, foot.y1);
+        return dx * dx + dy * dy;
+    }
+
+    void visitTile(const Apex& apex, ivec2 shift, Best& best) const {
+        const ivec2 first = tileCell(shift);
+        const vec2 origin = vec2(first) + 0.5f;
+        std::array<Node, 4 * PyramidLayout::kMaxLevels + 16> stack;
+        int top = pushStart(apex, origin, best.c, stack.data());
         while (top > 0) {
             const Node n = stack[--top];
-            const float m = m_pyramid.at(n.level, n.x, n.y);
-            if (m <= apex.a) continue;
-            const float d = rectDistance(apex.foot, nodeRect(n, shift));
-            if (d >= c * (m - apex.a)) continue;
-            if (n.level == 0) {
-                const ivec2 cell = globalCell(n.x, n.y, shift);
-                c = std::min(c, leafRatio(m_s, m_kind, apex, cell.x, cell.y, c));
+            if (!mayLower(n.distance2, n.max, apex.a, best.c)) continue;  // c fell since the push
+            if (n.level > 1) {
+                pushChildren(apex, origin, n, best.c, stack.data(), top);
                 continue;
             }
-            pushChildren(apex, shift, n, stack.data(), top);
+            forEachChild(apex, origin, n, best.c, [&](const Node& cell) {
+                const ivec2 at = first + ivec2(cell.x, cell.y);
+                best.offer(leafRatio(m_s, m_kind, apex, at.x, at.y, best.c), at);
+            });
         }
     }
 
-    // Children that exist, farthest pushed first so that the nearest is visited first.
-    template <class Stack>
-    void pushChildren(const Apex& apex, ivec2 shift, const Node& n, Stack* stack, int& top) const {
-        std::array<std::pair<float, Node>, 4> kids;
-        int count = 0;
+    // Calls visit(child) for the children of n that may lower c (their max tested before they
+    // are pushed, so that hopeless nodes are neither stored nor sorted).
+    template <class Visit>
+    void forEachChild(const Apex& apex, vec2 origin, const Node& n, const float& c,
+                      Visit&& visit) const {
         const int level = n.level - 1;
-        for (int dy = 0; dy < 2; ++dy)
-            for (int dx = 0; dx < 2; ++dx) {
-                const Node kid{level, 2 * n.x + dx, 2 * n.y + dy};
-                if (kid.x >= m_layout.widthAt(level) || kid.y >= m_layout.heightAt(level)) continue;
-                kids[size_t(count++)] = {rectDistance(apex.foot, nodeRect(kid, shift)), kid};
+        const int x1 = std::min(2 * n.x + 2, m_layout.widthAt(level));
+        const int y1 = std::min(2 * n.y + 2, m_layout.heightAt(level));
+        for (int y = 2 * n.y; y < y1; ++y)
+            for (int x = 2 * n.x; x < x1; ++x) {
+                const float m = m_pyramid.at(level, x, y);
+                if (m <= apex.a) continue;
+                const Node kid{level, x, y, distance2(apex.foot, origin, level, x, y), m};
+                if (mayLower(kid.distance2, m, apex.a, c)) visit(kid);
             }
-        std::sort(kids.begin(), kids.begin() + count,
-                  [](const auto& p, const auto& q) { return p.first > q.first; });
-        for (int k = 0; k < count; ++k) stack[top++] = kids[size_t(k)].second;
+    }
+
+    // The children that may lower c, farthest pushed first so that the nearest is visited first.
+    void pushChildren(const Apex& apex, vec2 origin, const Node& n, float c, Node* stack,
+                      int& top) const {
+        Node* kids = stack + top;
+        int count = 0;
+        forEachChild(apex, origin, n, c,
+                     [&](const Node& kid) { insertByDistance(kid, kids, count); });
+        top += count;
+    }
+
+    // Where the descent starts: no cell farther than R = c·(max S − a) from F can lower c, so
+    // instead of the root, the (at most 4×4) nodes of the finest level with 2^level ≥ R that
+    // meet F grown by R, farthest pushed first (R taken with a generous margin against
+    // rounding). Returns the stack size.
+    int pushStart(const Apex& apex, vec2 origin, float c, Node* stack) const {
+        const float maxS = m_pyramid.at(m_layout.topLevel(), 0, 0);
+        float reach = c * (maxS - apex.a) * 1.001f + 1.0f;
+        int level = 0;
+        while (level < m_layout.topLevel() && float(1 << level) < reach) ++level;
+        if (level == m_layout.topLevel()) reach = kInfinity;
+        auto nodeRange = [&](float lo, float hi, float base, int nodes) {
+            const float size = float(1 << level);
+            const float first = std::floor((lo - reach - base) / size);
+            const float last = std::floor((hi + reach - base) / size);
+            return ivec2(int(std::max(first, 0.0f)), int(std::min(last, float(nodes - 1))));
+        };
+        const ivec2 xs = nodeRange(apex.foot.x0, apex.foot.x1, origin.x, m_layout.widthAt(level));
+        const ivec2 ys = nodeRange(apex.foot.y0, apex.foot.y1, origin.y, m_layout.heightAt(level));
+        int top = 0;
+        for (int y = ys.x; y <= ys.y; ++y)
+            for (int x = xs.x; x <= xs.y; ++x)
+                insertByDistance({level, x, y, distance2(apex.foot, origin, level, x, y),
+                                  m_pyramid.at(level, x, y)},
+                                 stack, top);
+        return top;
+    }
+
+    // Inserts n into stack[0, top) kept farthest first (the nearest is popped first).
+    static void insertByDistance(const Node& n, Node* stack, int& top) {
+        int k = top++;
+        for (; k > 0 && stack[k - 1].distance2 < n.distance2; --k) stack[k] = stack[k - 1];
+        stack[k] = n;
     }
 
     const Surface& m_s;
@@ -226,13 +310,18 @@ private:
     std::vector<ivec2> m_shifts;
 };
 
+// Rows in parallel; inside a run of rows texels go boustrophedon (left to right, then right to
+// left) so that each texel's neighbour, the previous one, hands over its guess.
 template <class PerTexel>
 std::vector<vec2> buildRows(const Surface& s, PerTexel&& perTexel) {
     std::vector<vec2> cones(size_t(s.width()) * size_t(s.height()));
     parallelRanges(s.height(), 1, [&](int64_t begin, int64_t end) {
+        ivec2 guess = kNoCell;
         for (int j = int(begin); j < int(end); ++j)
-            for (int i = 0; i < s.width(); ++i)
-                cones[size_t(j) * size_t(s.width()) + size_t(i)] = perTexel(i, j);
+            for (int k = 0; k < s.width(); ++k) {
+                const int i = (j - int(begin)) % 2 == 0 ? k : s.width() - 1 - k;
+                cones[size_t(j) * size_t(s.width()) + size_t(i)] = perTexel(i, j, guess);
+            }
     });
     return cones;
 }
@@ -249,7 +338,8 @@ float coneRatioMax(const Surface& s) {
 
 std::vector<vec2> buildCones(const Surface& surface, ConeKind kind) {
     const ConeSearch search(surface, kind);
-    return buildRows(surface, [&](int i, int j) { return search.texel(i, j); });
+    return buildRows(surface,
+                     [&](int i, int j, ivec2& guess) { return search.texel(i, j, guess); });
 }
 
 float safeApexHeight(const Surface& surface, int i, int j) {
@@ -258,7 +348,7 @@ float safeApexHeight(const Surface& surface, int i, int j) {
 
 std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind) {
     const ConeSearch search(surface, kind);
-    return buildRows(surface, [&](int i, int j) { return search.texelBruteForce(i, j); });
+    return buildRows(surface, [&](int i, int j, ivec2&) { return search.texelBruteForce(i, j); });
 }
 
 MapArray encodeCones(const Surface& s, const std::vector<vec2>& cones,

@@ -58,6 +58,28 @@ TEST(ConeMap, PyramidSearchEqualsBruteForce) {
             }
 }
 
+// The pruned search (warm start from the neighbour, start level, pruning margin) returns the
+// brute force's minimum to the bit, on maps large enough for the pyramid to have several levels
+// above the start level and for rows to hand guesses to each other.
+TEST(ConeMap, PyramidSearchEqualsBruteForceToTheBit) {
+    struct Case {
+        const char* generator;
+        int w, h;
+        EdgeMode edge;
+    };
+    for (ConeKind kind : {ConeKind::SafeStrict, ConeKind::FaithfulStrict, ConeKind::FaithfulRelaxed})
+        for (const Case& c : {Case{"fbm", 45, 38, EdgeMode::Clamp},
+                              Case{"terraces", 40, 33, EdgeMode::Clamp},
+                              Case{"peaks6", 21, 17, EdgeMode::Repeat}}) {
+            const auto s = testing::makeSurface(c.generator, c.w, c.h, c.edge, 7);
+            const auto fast = buildCones(*s, kind), brute = buildConesBruteForce(*s, kind);
+            size_t differ = 0;
+            for (size_t k = 0; k < fast.size(); ++k)
+                differ += fast[k].x != brute[k].x || fast[k].y != brute[k].y;
+            EXPECT_EQ(differ, 0u) << c.generator << " kind " << int(kind);
+        }
+}
+
 TEST(ConeMap, QuantizationNeverWidens) {
     const auto s = testing::makeSurface("fbm", 32, 32, EdgeMode::Clamp);
     const auto cones = buildCones(*s, ConeKind::SafeStrict);

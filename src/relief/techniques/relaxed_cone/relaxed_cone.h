@@ -21,8 +21,13 @@
 //     the densely sampled ray sets of safety shapes §3 and are not built here.
 // Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
 //   exact walk (ExactTracer), so they are exact.
-// Map: "cones", as `cone` (same encodings). Build: faithful = per sample B above the apex one
-//   ray walk (exact cell exits), pruned by the max pyramid; safe = the strict build.
+// Map: "cones", as `cone` (same encodings). Build: faithful = one ray walk (exact cell exits)
+//   per sample B above the apex whose strict ratio is below the cone found so far, stopped
+//   where the ratio reaches it, samples found through the max pyramid and the neighbour's
+//   guess (cone_common.h); equal to the Θ(N⁴) brute force to the bit. 1024² on two threads:
+//   fbm 69 s CPU (≈ 35 s wall idle; 102 s under load), the SRTM window 4.6 s CPU
+//   (docs/cones.md; the published preprocess is reported at about 8 hours); ≈ 10–13× per
+//   doubling of the side on fbm. Safe = the strict build (1.4 s CPU).
 // Steps = cone steps + binary steps; fetches = 1 per cone step + 4 per S evaluation.
 // Departures: the binary search evaluates S exactly (not a bilinear fetch); rays enter through
 //   any face; a ray entering below S hits at entry; the map is fetched nearest-texel.
