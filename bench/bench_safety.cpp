@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <span>
 #include <string>
@@ -34,6 +35,11 @@ Precomputed safety shapes (safety-sd, safety-cc) against NA, LS, RC and Embree, 
   --sizes LIST   precompute sizes, comma-separated (default 256,512,1024,2048,4096)
   --only WHAT    precompute | compare (default: both)
   --compare LIST map sizes of the comparison (default 256,512,1024; --quick: 64,128)
+  --only exterior  only the exterior-ray section (§6.2): cyl_ext / cone_ext build times and
+                 the rendering gain over the all-ray maps per elevation
+  --ext-sizes LIST  exterior build sizes (default 256,512,1024; --quick: 64,128)
+  --cone-ext-max N  largest size for the cone_ext build (default 512)
+  --gain-size N  map size of the exterior rendering-gain table (default 512; --quick: 128)
   --earth FILE   also time the precomputation on this heightfield (e.g. the 10800x5400 SRTM)
   --out FILE     also write the Markdown report to FILE
   -h, --help     this text
@@ -46,6 +52,9 @@ struct Options {
     std::vector<int> sizes = {256, 512, 1024, 2048, 4096};
     std::vector<int> compare = {256, 512, 1024};
     std::string earth, out, only;
+    std::vector<int> extSizes = {256, 512, 1024};
+    int coneExtMax = 512;
+    int gainSize = 512;
 };
 
 std::vector<int> parseList(const char* p) {
@@ -77,6 +86,12 @@ int parseOptions(int argc, char** argv, Options& o) {
             o.compare = parseList(argv[++k]);
         } else if (arg == "--only" && value) {
             o.only = argv[++k];
+        } else if (arg == "--ext-sizes" && value) {
+            o.extSizes = parseList(argv[++k]);
+        } else if (arg == "--cone-ext-max" && value) {
+            o.coneExtMax = std::atoi(argv[++k]);
+        } else if (arg == "--gain-size" && value) {
+            o.gainSize = std::atoi(argv[++k]);
         } else if (arg == "--earth" && value) {
             o.earth = argv[++k];
         } else if (arg == "--out" && value) {
@@ -88,7 +103,7 @@ int parseOptions(int argc, char** argv, Options& o) {
         }
     }
     if (o.repeats == 0) o.repeats = o.quick ? 1 : 3;
-    if (o.quick) o.sizes = {64, 128}, o.compare = {64, 128};
+    if (o.quick) o.sizes = {64, 128}, o.compare = {64, 128}, o.extSizes = {64, 128}, o.gainSize = 128;
     return 0;
 }
 
@@ -282,13 +297,116 @@ std::string comparisonTables(const Options& o, std::string& embreeTable) {
                            w, h, view.elevationDeg, view.azimuthDeg, view.distance, view.fovDeg);
 }
 
+// (4) Exterior rays (§6.2): build times (wall and process CPU seconds, the machine is shared)
+// and the rendering gain of the exterior maps over the all-ray maps per elevation.
+struct Clocked {
+    double wall = 0, cpu = 0;
+};
+
+Clocked clocked(const std::function<void()>& fn) {
+    const std::clock_t c0 = std::clock();
+    Clocked t;
+    t.wall = seconds(fn);
+    t.cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
+    return t;
+}
+
+struct GainMaps {
+    std::vector<std::pair<std::string, TechniqueMaps>> variants;  // label → baked maps
+};
+
+std::string exteriorBuildTable(const Options& o, GainMaps& gain) {
+    std::string t = "| map | cyl_all (s) | cyl_ext wall (s) | cyl_ext CPU (s) | cone_ext wall (s) | "
+                    "cone_ext CPU (s) | mean r all | mean r ext | load before / after |\n"
+                    "|---|---|---|---|---|---|---|---|---|\n";
+    for (int n : o.extSizes) {
+        std::fprintf(stderr, "bench_safety: exterior build %d²\n", n);
+        std::fflush(stderr);
+        auto s = fbmSurface(n);
+        safety::BuildOptions all, ext, extSlope;
+        ext.exterior = extSlope.exterior = extSlope.exteriorSlope = true;
+        const std::string loadBefore = loadAverage();
+        safety::DistanceMap sdAll, sdExt;
+        safety::ConeMap ccExt;
+        const Clocked tAll = clocked([&] { sdAll = safety::buildDistanceMap(*s, all); });
+        const Clocked tExt = clocked([&] { sdExt = safety::buildDistanceMap(*s, ext); });
+        const bool cone = n <= o.coneExtMax;
+        const Clocked tCone =
+            cone ? clocked([&] { ccExt = safety::buildConeMap(*s, sdExt, extSlope); }) : Clocked{-1, -1};
+        t += fmt::format("| fbm {}² | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {:.2f} | "
+                         "{} / {} |\n",
+                         n, tAll.wall, tExt.wall, tExt.cpu, tCone.wall, tCone.cpu,
+                         meanRadius(sdAll), meanRadius(sdExt), loadBefore, loadAverage());
+        if (n != o.gainSize) continue;
+        gain.variants = {
+            {"SD", safety::distanceMapToArrays("safety-sd", sdAll, all)},
+            {"SD ext", safety::distanceMapToArrays("safety-sd", sdExt, ext)},
+            {"CC", safety::coneMapToArrays("safety-cc", safety::buildConeMap(*s, sdAll, all), all)},
+            {"CC cyl_ext", safety::coneMapToArrays("safety-cc", safety::buildConeMap(*s, sdExt, ext), ext)}};
+        if (cone) gain.variants.push_back({"CC cone_ext", safety::coneMapToArrays("safety-cc", ccExt, extSlope)});
+    }
+    return t + "\ncyl_ext = exterior safety distances (4 classes); cone_ext = the slanted planes "
+               "over exterior-limiting triangles given cyl_ext's radii (the full cone_ext build "
+               "is cyl_ext + cone_ext); −1 = not run. CPU = process CPU seconds (all threads).\n";
+}
+
+std::string exteriorGainTable(const Options& o, const GainMaps& gain) {
+    if (gain.variants.empty()) return "(no gain table: --gain-size is not among --ext-sizes)\n";
+    const int w = o.quick ? 320 : 1280, h = o.quick ? 256 : 1024;
+    auto s = fbmSurface(o.gainSize);
+    std::string t = "| elevation |";
+    for (const auto& v : gain.variants) t += fmt::format(" {} ms | {} steps |", v.first, v.first);
+    t += " wrong (ext) |\n|---|";
+    for (size_t k = 0; k < gain.variants.size(); ++k) t += "---|---|";
+    t += "---|\n";
+    for (float elevation : {2.9f, 15.3f, 27.8f, 40.2f, 52.7f, 65.1f, 77.6f, 90.0f}) {
+        std::fprintf(stderr, "bench_safety: exterior gain, elevation %.1f\n", elevation);
+        OrbitView view;
+        view.elevationDeg = elevation;
+        view.azimuthDeg = 30.0f;
+        view.distance = 0.6f;
+        view.fovDeg = 45.0f;
+        const Camera camera(view, *s, w, h);
+        const std::vector<Ray> rays = tiledPrimaryRays(camera);
+        auto exact = createTracer("exact", s, {});
+        RELIEF_CHECK(exact.ok());
+        const std::vector<Hit> reference = traceAll(**exact, rays, 1).hits;
+        t += fmt::format("| {}° |", elevation);
+        size_t wrong = 0;
+        for (const auto& [label, maps] : gain.variants) {
+            const TechniqueInfo& info = *findTechnique(maps.technique);
+            auto params = resolveParams(info, {});
+            RELIEF_CHECK(params.ok());
+            auto tracer = info.create(TechniqueInput{s, *params, &maps});
+            RELIEF_CHECK(tracer.ok());
+            const Timed r = traceAll(**tracer, rays, o.repeats);
+            const ErrorStats e = errors(r.hits, reference, w, h);
+            if (label.find("ext") != std::string::npos) wrong += size_t(e.wrongRate() * rays.size() + 0.5);
+            t += fmt::format(" {:.1f} | {:.2f} |", 1e3 * r.seconds, e.steps.mean);
+        }
+        t += fmt::format(" {} |\n", wrong);
+    }
+    return t + fmt::format("\n{}×{} primary rays, fbm {}², depth 0.1·N, clamp, orbit view azimuth "
+                           "30°, distance 0.6 diagonals (camera outside the box), fov 45°; ms = "
+                           "wall time of all rays, best of {}; steps = mean per pixel; wrong = "
+                           "pixels of the exterior maps differing from `exact` (hit/miss or "
+                           "|Δt| > 0.5).\n",
+                           w, h, o.gainSize, o.repeats);
+}
+
 int run(const Options& o) {
     const ThreadLimit limit(o.threads);
     const int threads = ThreadLimit::current();
     std::string report = fmt::format("Machine: {}; {} threads; load average at start {}; {}.\n\n",
                                      machineDescription(), threads, loadAverage(), todayUtc());
-    if (o.only != "compare") report += "### Precomputation\n\n" + precomputeTable(o, threads);
-    if (o.only != "precompute") {
+    if (o.only == "exterior") {
+        GainMaps gain;
+        report += "### Exterior rays: precomputation\n\n" + exteriorBuildTable(o, gain);
+        report += "\n### Exterior rays: rendering gain per elevation\n\n" + exteriorGainTable(o, gain);
+    }
+    if (o.only != "compare" && o.only != "exterior")
+        report += "### Precomputation\n\n" + precomputeTable(o, threads);
+    if (o.only != "precompute" && o.only != "exterior") {
         std::string embree;
         report += "\n### Fig. 29 / Table 1 on this CPU\n\n" + comparisonTables(o, embree);
         report += "\n### Throughput against Embree (same rays, same run)\n\n" + embree;

@@ -27,7 +27,11 @@ fi
 start=$SECONDS
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang \
     -DCMAKE_CXX_COMPILER=clang++ -DRELIEF_FUZZ=ON >/dev/null
-cmake --build "$build" -j "$(nproc)"
+# What ctest and the fuzz smoke runs need (the benchmark executables, beyond the one ctest runs,
+# are not worth sanitizing).
+targets=(relief relief_tests relief_gl_tests bench_exact_embree)
+for seeds in "$root"/fuzz/corpus/*/; do targets+=("fuzz_$(basename "$seeds")"); done
+cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
 echo "test-sanitized: build $((SECONDS - start)) s"
 
 # Leaks are checked everywhere, except allocations made inside Mesa's GL driver stack (llvmpipe
@@ -45,8 +49,16 @@ export ASAN_OPTIONS=abort_on_error=1:detect_leaks=1:check_initialization_order=1
 export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
 export LSAN_OPTIONS=suppressions=$build/lsan.supp:print_suppressions=0
 
+# Left out here, and only here: ExactVsEmbree.GrazingRayHasIllConditionedT pins one ray whose
+# disagreement depends on the exact float results of the gcc build (with clang the same ray is no
+# longer grazing); the gcc run of scripts/test.sh keeps it.
+compiler_specific='^ExactVsEmbree\.GrazingRayHasIllConditionedT$'
 start=$SECONDS
-(cd "$build" && ctest --output-on-failure -j "$(nproc)")
+(cd "$build" && ctest --output-on-failure -j "$(nproc)" -LE gl -E "$compiler_specific")
+# The GL tests run Mesa (and, for the viewer, X11/GLX) libraries that are unloaded before exit,
+# so LSan cannot name their leftovers' module to suppress them: leak checking is off for this
+# label only; ASan and UBSan stay on.
+(cd "$build" && ASAN_OPTIONS=$ASAN_OPTIONS:detect_leaks=0 ctest --output-on-failure -j "$(nproc)" -L gl)
 echo "test-sanitized: ctest $((SECONDS - start)) s"
 
 # Fuzz smoke runs: each target over its seeds; new inputs go to a scratch corpus, never into the

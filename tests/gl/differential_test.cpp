@@ -196,22 +196,28 @@ TEST_P(CpuVsGl, AgreeOnFixedRays) {
 // maps built once: the two sides must agree bit for bit up to float-edge rays, as above.
 TEST(CpuVsGlParameters, AgreeOnFixedRays) {
     RELIEF_REQUIRE_GL();
-    const std::vector<std::pair<std::string_view, std::vector<std::pair<std::string, double>>>>
-        cases = {{"quadtree", {{"ascend", 0}}},
-                 {"quadtree", {{"max-steps", 6}}},
-                 {"cone", {{"bits", 16}, {"sqrt", 1}}},
-                 {"cone", {{"bits", 8}, {"variant", 1}}},
-                 {"relaxed-cone", {{"bits", 16}, {"binary-steps", 4}}},
-                 {"safety-sd", {{"isotropic", 1}, {"positive-distance", 1}}},
-                 {"safety-cc", {{"view-dependent", 1}, {"phi-max", -30}}},
-                 {"safety-cc", {{"isotropic", 1}, {"max-steps", 5}}}};
-    const auto surface = testing::generatedSurface("peaks6", 40, 32, 0.15f, EdgeMode::Repeat, 5);
-    ASSERT_TRUE(surface);
-    const std::vector<Ray> rays = differentialRays(*surface, 23);
-    for (const auto& [name, overrides] : cases) {
-        const TechniqueInfo* info = findTechnique(name);
-        ASSERT_TRUE(info && !info->glsl.empty()) << name;
-        auto params = resolveParams(*info, overrides);
+    struct Case {
+        std::string_view name;
+        std::vector<std::pair<std::string, double>> overrides;
+        EdgeMode edge = EdgeMode::Repeat;  // exterior-ray maps exist in clamp mode only
+    };
+    const std::vector<Case> cases = {{"quadtree", {{"ascend", 0}}},
+                                     {"quadtree", {{"max-steps", 6}}},
+                                     {"cone", {{"bits", 16}, {"sqrt", 1}}},
+                                     {"cone", {{"bits", 8}, {"variant", 1}}},
+                                     {"relaxed-cone", {{"bits", 16}, {"binary-steps", 4}}},
+                                     {"safety-sd", {{"isotropic", 1}, {"positive-distance", 1}}},
+                                     {"safety-cc", {{"view-dependent", 1}, {"phi-max", -30}}},
+                                     {"safety-cc", {{"isotropic", 1}, {"max-steps", 5}}},
+                                     {"safety-sd", {{"exterior", 1}}, EdgeMode::Clamp},
+                                     {"safety-cc", {{"exterior", 1}, {"exterior-slope", 1}}, EdgeMode::Clamp}};
+    for (const Case& c : cases) {
+        const auto surface = testing::generatedSurface("peaks6", 40, 32, 0.15f, c.edge, 5);
+        ASSERT_TRUE(surface);
+        const std::vector<Ray> rays = differentialRays(*surface, 23);
+        const TechniqueInfo* info = findTechnique(c.name);
+        ASSERT_TRUE(info && !info->glsl.empty()) << c.name;
+        auto params = resolveParams(*info, c.overrides);
         ASSERT_TRUE(params) << params.error().message;
         TechniqueInput input{surface, *params};
         TechniqueMaps maps;
@@ -234,8 +240,8 @@ TEST(CpuVsGlParameters, AgreeOnFixedRays) {
                       (a[k].hit && std::abs(double(a[k].t) - double(b[k].t)) > 1e-3);
             stepsDiffer += a[k].steps != b[k].steps || a[k].fetches != b[k].fetches;
         }
-        std::string label(name);
-        for (const auto& [key, value] : overrides) label += fmt::format(" {}={}", key, value);
+        std::string label(c.name);
+        for (const auto& [key, value] : c.overrides) label += fmt::format(" {}={}", key, value);
         std::printf("%s: %zu rays, hit or t differ %zu, steps or fetches differ %zu\n",
                     label.c_str(), rays.size(), differ, stepsDiffer);
         EXPECT_LE(double(differ), 1e-3 * double(rays.size())) << label;

@@ -152,8 +152,11 @@ std::string glslMapInterface(const TechniqueMaps* maps) {
     for (const auto& [key, value] : maps->parameters) {
         float number = 0.0f;
         const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), number);
-        if (ec == std::errc() && end == value.data() + value.size() && std::isfinite(number))
-            text += constant("kMapParam" + glslParamName(key).substr(6), number);
+        if (ec == std::errc() && end == value.data() + value.size() && std::isfinite(number)) {
+            // The #define lets a tracer accept maps baked before a parameter existed.
+            const std::string name = "kMapParam" + glslParamName(key).substr(6);
+            text += constant(name, number) + "#define HAS_" + name + "\n";
+        }
     }
     text += "layout(std430, binding = kMapsBinding) readonly buffer Maps { float maps[]; };\n";
     text += "float mapTexel(int map, int x, int y, int channel) {\n"

@@ -230,6 +230,11 @@ private:
         while (top > 0) {
             const Node n = stack[--top];
             if (!mayLower(n.distance2, n.max, apex.a, best.c)) continue;  // c fell since the push
+            if (n.level == 0) {  // a start node that is already a cell (short reach, tiny map)
+                const ivec2 at = first + ivec2(n.x, n.y);
+                best.offer(leafRatio(m_s, m_kind, apex, at.x, at.y, best.c), at);
+                continue;
+            }
             if (n.level > 1) {
                 pushChildren(apex, origin, n, best.c, stack.data(), top);
                 continue;

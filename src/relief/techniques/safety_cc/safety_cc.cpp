@@ -24,6 +24,7 @@ Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
         if (!loaded) return loaded.error();
         map = std::make_shared<const safety::ConeMap>(std::move(*loaded));
     } else {
+        if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
         map = std::make_shared<const safety::ConeMap>(buildCone(*input.surface, build));
     }
     return SafetyCcTracer(input.surface, safety::ConeShape(std::move(map)),
@@ -38,6 +39,7 @@ Result<std::unique_ptr<Tracer>> createSafetyCc(const TechniqueInput& input) {
 
 Result<TechniqueMaps> buildSafetyCcMaps(const TechniqueInput& input) {
     const safety::BuildOptions build = safety::buildOptionsFrom(input.params);
+    if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
     return safety::coneMapToArrays(kName, buildCone(*input.surface, build), build);
 }
 

@@ -22,14 +22,18 @@
 //   highest vertex of columns r and r+1 (the paper's "triangles at distance r"); the plane is
 //   raised by 1e-6 relative so float evaluation stays above it. Beyond 256 abscissas (repeat
 //   mode, wide maps) the slope is raised so the plane clears the highest sample. The rest as
-//   safety-sd.
+//   safety-sd, including exterior=1 (r = cyl_ext; the slope stays the N-buffer's over all
+//   vertices: the paper's cyl_ext + cone_all). exterior-slope=1 (needs exterior=1): the slope
+//   over exterior-limiting triangles only (cyl_ext + cone_ext, exact, slow build): columns whose
+//   N-buffer maximum cannot raise the slope are skipped, the exterior test runs only on
+//   triangles that would raise it. Attribute "exterior-slope".
 #include <relief/techniques/safety_common/safety_params.h>
 
 namespace relief {
 
 using SafetyCcTracer = safety::SafetyTracer<safety::ConeShape>;
 
-inline constexpr std::span<const ParamSpec> kSafetyCcParams = safety::kSafetyParams;
+inline constexpr std::span<const ParamSpec> kSafetyCcParams = safety::kSafetyCcParamList;
 Result<std::unique_ptr<Tracer>> createSafetyCc(const TechniqueInput& input);
 Result<TechniqueMaps> buildSafetyCcMaps(const TechniqueInput& input);
 Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input);

@@ -1,5 +1,7 @@
 #include <relief/techniques/safety_common/safety_maps.h>
 
+#include <relief/techniques/safety_common/safety_exterior.h>
+
 #include <relief/core/parallel.h>
 
 #include <fmt/format.h>
@@ -7,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace relief::safety {
@@ -90,9 +93,8 @@ int columnsAhead(const Surface& s, int cls, int i, int j) {
 
 int crossCount(const Surface& s, int cls) { return cls < kYPlus ? s.height() : s.width(); }
 
-// Allowed in-plane directions m = tan θ (θ from the class axis) for a plane of local gradient
-// (pa, pb): the class wedge |θ| ≤ π/4 minus the directions along which the plane rises
-// faster than tanPhi. Up to two intervals; returns their count.
+}  // namespace
+
 int allowedDirections(double pa, double pb, double tanPhi, double (&lo)[2], double (&hi)[2]) {
     constexpr double kQuarter = std::numbers::pi / 4.0;
     const double g = std::hypot(pa, pb);
@@ -128,8 +130,6 @@ int allowedDirections(double pa, double pb, double tanPhi, double (&lo)[2], doub
     }
     return count;
 }
-
-}  // namespace
 
 bool cellTriangles(const Surface& s, const Frame& f, int ci, int cj,
                    std::array<LocalTriangle, 2>& out) {
@@ -303,8 +303,15 @@ struct Bounds {
     const CellBounds* alongX;  // y classes
 };
 
+// Limiting for the ray set of the build: all rays, or (exterior set) exterior rays only, which
+// implies limiting for all rays (the cheap test filters).
+bool limitingFor(const ExteriorVisibility* exterior, const Frame& f, const SegmentHeights& seg,
+                 const LocalTriangle& t, double tanPhi) {
+    return isLimiting(seg, t, tanPhi) && (!exterior || exterior->limiting(f, seg, t, tanPhi));
+}
+
 int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDistance,
-              const Bounds* bounds, int firstColumn = 0) {
+              const Bounds* bounds, const ExteriorVisibility* exterior, int firstColumn = 0) {
     const Frame f{cls};
     const SegmentHeights seg = segmentHeights(s, f, i, j);
     const double lowest = std::min({seg.lo, seg.mid, seg.hi});
@@ -325,7 +332,9 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
             int ci, cj;
             f.worldCell(seg.a0 + k, bc, ci, cj);
             if (!cellTriangles(s, f, ci, cj, tris)) continue;
-            if (isLimiting(seg, tris[0], tanPhi) || isLimiting(seg, tris[1], tanPhi)) return k;
+            if (limitingFor(exterior, f, seg, tris[0], tanPhi) ||
+                limitingFor(exterior, f, seg, tris[1], tanPhi))
+                return k;
         }
     }
     return maxDistance;
@@ -393,9 +402,21 @@ std::vector<uint16_t> firstSteepColumns(const Surface& s, const CellBounds& cell
 
 }  // namespace
 
+Status checkBuildOptions(const Surface& s, const BuildOptions& o) {
+    if (o.exterior && s.edge() == EdgeMode::Repeat)
+        return makeError(ErrorKind::Unsupported,
+                         "exterior-ray safety maps need --edge clamp (a tiling relief has no "
+                         "outside at its sides)");
+    if (o.exteriorSlope && !o.exterior)
+        return makeError(ErrorKind::BadArgument, "exterior-slope=1 needs exterior=1");
+    return {};
+}
+
 int safetyDistanceDirect(const Surface& s, int cls, int i, int j, double tanPhi,
-                         int maxDistance) {
-    return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr);
+                         int maxDistance, bool exterior) {
+    if (!exterior) return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr, nullptr);
+    const ExteriorVisibility visibility(s);
+    return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr, &visibility);
 }
 
 DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
@@ -405,6 +426,8 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
     if (s.edge() == EdgeMode::Repeat) maxDistance = std::min(maxDistance, std::max(w, h));
     const CellBounds alongY(s, true), alongX(s, false);
     const Bounds bounds{&alongY, &alongX};
+    std::unique_ptr<const ExteriorVisibility> exterior;
+    if (options.exterior) exterior = std::make_unique<const ExteriorVisibility>(s);
     DistanceMap map{w, h, kClassCount, {}};
     map.r.resize(size_t(kClassCount) * size_t(w) * size_t(h));
     std::vector<uint16_t> firstColumns[kClassCount];
@@ -420,7 +443,7 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
                 firstColumns[cls].empty() ? nullptr : &firstColumns[cls][size_t(j) * size_t(w)];
             for (int i = 0; i < w; ++i)
                 out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds,
-                                            start ? start[i] : 0));
+                                            exterior.get(), start ? start[i] : 0));
         }
     });
     if (!options.isotropic) return map;
@@ -520,9 +543,48 @@ int lineOf(const Frame& f, int a) {
     return f.cls < kYPlus ? int(X) : int(Y);
 }
 
+// cone_ext: the lowest slope putting every vertex of an exterior-limiting triangle of columns
+// r .. xEnd under the plane (abscissas r < x ≤ xEnd), starting from `slope`. Columns whose highest
+// vertices (the N-buffer's hbar) cannot raise the slope are skipped, and the scan stops once
+// no later vertex can; the exterior test runs only on triangles that would raise it.
+template <class Hbar>
+float exteriorConeSlope(const Surface& s, const ExteriorVisibility& visibility, int cls, int i,
+                        int j, int r, float zc, int xEnd, float slope, double tanPhi,
+                        Hbar hbar) {
+    const Frame f{cls};
+    const SegmentHeights seg = segmentHeights(s, f, i, j);
+    const int cross = crossCount(s, cls);
+    const float maxZ = s.maxZ();
+    auto raises = [&](int x, double z) {
+        return x > r && x <= xEnd && (float(z) - zc) / float(x - r) > slope;
+    };
+    std::array<LocalTriangle, 2> tris;
+    for (int k = r; k <= xEnd; ++k) {
+        if (slope >= 0.0f && float(k + 1 - r) * slope >= maxZ - zc) break;  // nothing later
+        if (!raises(k, hbar(k)) && !raises(k + 1, hbar(k + 1))) continue;
+        const int b0 = std::max(seg.b0 - 2 - k, -1), b1 = std::min(seg.b0 + 1 + k, cross - 1);
+        for (int bc = b0; bc <= b1; ++bc) {
+            int ci, cj;
+            f.worldCell(seg.a0 + k, bc, ci, cj);
+            if (!cellTriangles(s, f, ci, cj, tris)) continue;
+            for (const LocalTriangle& t : tris) {
+                auto column = [&](int v) { return int(std::lround(t.a[v])) - seg.a0; };
+                bool any = false;
+                for (int v = 0; v < 3; ++v) any = any || raises(column(v), t.z[v]);
+                if (!any || !isLimiting(seg, t, tanPhi) || !visibility.limiting(f, seg, t, tanPhi))
+                    continue;
+                for (int v = 0; v < 3; ++v)
+                    if (raises(column(v), t.z[v]))
+                        slope = (float(t.z[v]) - zc) / float(column(v) - r);
+            }
+        }
+    }
+    return slope;
+}
+
 // Vertices that rays from s_τ can reach at local abscissa a0 + x lie in rows b0 ± (x + 2).
 ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, int j, int r,
-                    int& lookups) {
+                    const ExteriorVisibility* exteriorSlope, double tanPhi, int& lookups) {
     const Frame f{cls};
     int a0, b0;
     f.texel(i, j, a0, b0);
@@ -540,6 +602,12 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, 
     if (xEnd > r + kConeScan) {  // beyond the scan the plane must clear the highest sample
         xEnd = r + kConeScan;
         slope = (maxZ - c.zc) / float(kConeScan + 1);
+    }
+    if (exteriorSlope) {
+        slope = exteriorConeSlope(s, *exteriorSlope, cls, i, j, r, c.zc, xEnd, slope, tanPhi,
+                                  hbar);
+        c.slope = slope == -kInfinity ? 0.0f : slope;
+        return c;
     }
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
@@ -601,6 +669,10 @@ ConeMap buildConeMap(const Surface& s, const DistanceMap& radii, const BuildOpti
     ConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
     // All four classes are needed even for the isotropic map (its plane bounds all of them).
     std::vector<ConeTexel> perClass(size_t(kClassCount) * plane);
+    const double tanPhi = tanPhiMax(options.phiMaxDeg);
+    std::unique_ptr<const ExteriorVisibility> exterior;
+    if (options.exterior && options.exteriorSlope)
+        exterior = std::make_unique<const ExteriorVisibility>(s);
     for (int axis = 0; axis < 2; ++axis) {  // one N-buffer orientation at a time (memory)
         const WindowMax windows(s, axis == 0);
         parallelRanges(int64_t(2) * h, 1, [&](int64_t begin, int64_t end) {
@@ -609,7 +681,8 @@ ConeMap buildConeMap(const Surface& s, const DistanceMap& radii, const BuildOpti
                 const int cls = 2 * axis + int(row / h), j = int(row % h);
                 for (int i = 0; i < w; ++i)
                     perClass[size_t(cls) * plane + size_t(j) * size_t(w) + size_t(i)] =
-                        coneTexel(s, windows, cls, i, j, radii.at(cls, i, j), lookups);
+                        coneTexel(s, windows, cls, i, j, radii.at(cls, i, j),
+                                  exterior.get(), tanPhi, lookups);
             }
         });
     }
@@ -644,7 +717,9 @@ namespace {
 std::map<std::string, std::string> parameterText(const BuildOptions& o) {
     return {{"phi-max", fmt::format("{}", o.phiMaxDeg)},
             {"isotropic", o.isotropic ? "1" : "0"},
-            {"max-distance", fmt::format("{}", o.maxDistance)}};
+            {"max-distance", fmt::format("{}", o.maxDistance)},
+            {"exterior", o.exterior ? "1" : "0"},
+            {"exterior-slope", o.exteriorSlope ? "1" : "0"}};
 }
 
 Result<double> parameterNumber(const TechniqueMaps& maps, const std::string& name) {
@@ -693,6 +768,17 @@ Result<BuildOptions> optionsFromArrays(const TechniqueMaps& maps) {
     o.phiMaxDeg = *phi;
     o.isotropic = *iso != 0.0;
     o.maxDistance = int(*dist);
+    // Maps baked before exterior rays existed are all-ray maps.
+    for (auto [name, flag] : {std::pair{"exterior", &o.exterior},
+                              std::pair{"exterior-slope", &o.exteriorSlope}}) {
+        if (!maps.parameters.count(name)) continue;
+        auto v = parameterNumber(maps, name);
+        if (!v) return v.error();
+        if (*v != 0.0 && *v != 1.0)
+            return makeError(ErrorKind::InvalidInput, "{} maps: parameter '{}' out of range",
+                             maps.technique, name);
+        *flag = *v != 0.0;
+    }
     return o;
 }
 

@@ -39,7 +39,15 @@ struct BuildOptions {
     double phiMaxDeg = 90.0;
     bool isotropic = false;   // one shape for the four classes (the minimum)
     int maxDistance = kMaxDistance;
+    // §6.2: only exterior rays (viewpoint outside the box) count: cyl_ext. Clamp mode only.
+    bool exterior = false;
+    // Cone slope over exterior-limiting triangles only (cone_ext, exact); else the N-buffer
+    // slope over every vertex (cone_all). Needs `exterior`.
+    bool exteriorSlope = false;
 };
+
+// Options the surface cannot serve (exterior rays need clamp mode); ok otherwise.
+Status checkBuildOptions(const Surface& surface, const BuildOptions& options);
 
 // tan φ_max, +∞ for 90° (no restriction).
 double tanPhiMax(double phiMaxDeg);
@@ -116,15 +124,21 @@ struct SegmentHeights {
 };
 SegmentHeights segmentHeights(const Surface& surface, const Frame& frame, int i, int j);
 
+// Allowed in-plane directions m = tan θ (θ from the class axis) for a plane of local gradient
+// (pa, pb): the class wedge |θ| ≤ π/4 minus the directions along which the plane rises
+// faster than tanPhi. Up to two intervals [lo, hi]; returns their count.
+int allowedDirections(double pa, double pb, double tanPhi, double (&lo)[2], double (&hi)[2]);
+
 // §6.1 with §6.2.5: is T limiting for τ, i.e. does some ray of the class (slope ≤ tanPhi)
 // start strictly above S on s_τ, lie in T's plane and cross T? Exact: the point set σ_τ,T is
 // an interval of s_τ and S − P_T is linear on each half of s_τ, so three points decide.
 bool isLimiting(const SegmentHeights& seg, const LocalTriangle& t, double tanPhi);
 
 // The safety distance of world texel (i, j) for class `cls` by the paper's scan (closest
-// column holding a limiting triangle), without the pruning the builder uses.
+// column holding a limiting triangle), without the pruning the builder uses; `exterior`:
+// exterior-limiting triangles only (safety_exterior.h).
 int safetyDistanceDirect(const Surface& surface, int cls, int i, int j, double tanPhi,
-                         int maxDistance);
+                         int maxDistance, bool exterior = false);
 
 // Test oracle for the cone slope: vertices read one by one instead of the N-buffer. With
 // limitingOnly, only vertices of limiting triangles bound the plane (the paper's exact slope,

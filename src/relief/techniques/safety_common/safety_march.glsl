@@ -2,7 +2,7 @@
 // relief::safety::SafetyTracer<Shape>::trace and its helpers (safety_common/safety_march.h): the
 // same names, loops, steps and fetches. The Shape template argument becomes shapeStep, defined
 // by the technique file after this one (DistanceShape::step, ConeShape::step).
-// Departures: rays outside φ_max are not counted (fallbacks() is a CPU statistic), and the φ_max
+// Departures: rays outside φ_max (or, with exterior maps, from inside the box) are not counted (fallbacks() is a CPU statistic), and the φ_max
 // test uses a float tan of the maps' "phi-max" (the C++ a double one): a ray within rounding of
 // that bound may take the exact walk on one side only, with the same hit and other step counts.
 // requires: common_cell_walk.glsl
@@ -26,6 +26,18 @@ bool rayWithinPhiMax(vec3 d) {
     precise double horizontal = sqrt(double(d.x) * double(d.x) + double(d.y) * double(d.y));
     precise double bound = (tanPhi - 1e-6LF) * horizontal;
     return double(d.z) <= bound;
+}
+
+// originIsExterior: exterior-ray maps ("exterior" = 1) serve rays from outside the open box or
+// from above the highest sample; other origins take the exact walk.
+bool originServed(vec3 o) {
+#ifdef HAS_kMapParamExterior
+    if (kMapParamExterior == 0.0) return true;
+#else
+    return true;  // maps baked before exterior-ray maps existed are all-ray maps
+#endif
+    return o.z >= maxZ() || o.z <= 0.0 || o.x <= 0.0 || o.y <= 0.0 || o.x >= float(width()) ||
+           o.y >= float(height());
 }
 
 float safetyMargin() {
@@ -111,7 +123,7 @@ Hit safetyTrace(Ray ray) {
     if (empty(span)) return hit;
     const vec3 o = ray.origin;
     const vec3 d = ray.direction;
-    if (!rayWithinPhiMax(d)) {
+    if (!rayWithinPhiMax(d) || !originServed(o)) {
         cellsHit(ray, span.tEnter, span.tExit, true, hit);
         return hit;
     }

@@ -24,6 +24,7 @@ namespace relief::safety {
 struct MarchOptions {
     int maxSteps = 0;               // 0 = none (exact)
     double phiMaxDeg = 90.0;        // the maps' φ_max; rays outside it take the exact walk
+    bool exterior = false;          // maps for exterior rays: interior origins take the exact walk
     bool viewDependent = false;     // §7: linear along the ray between test positions
     bool positiveDistance = false;  // §7: safety distances clamped to ≥ 1
 };
@@ -48,6 +49,15 @@ inline bool viewWithinPhiMax(std::span<const Ray> rays, double phiMaxDeg) {
     for (const Ray& r : rays)
         if (!rayWithinPhiMax(r.direction, t)) return false;
     return true;
+}
+
+// Do exterior-ray maps (§6.2) serve a ray from this origin? Yes when the origin is outside the
+// open box, or above the highest sample (nothing of S lies behind it): such a ray reaches every
+// test position without having met S, which is what the exterior build assumes. Clamp mode
+// only (exterior maps are not built for repeat mode).
+inline bool originIsExterior(const Surface& s, const vec3& o) {
+    return o.z >= s.maxZ() || o.z <= 0.0f || o.x <= 0.0f || o.y <= 0.0f ||
+           o.x >= float(s.width()) || o.y >= float(s.height());
 }
 
 // The safety distance map as a shape: the stored i, whatever the ray's height.
@@ -95,7 +105,8 @@ public:
 
     Hit trace(const Ray& ray) const;
 
-    // Rays traced by the exact walk because they are outside φ_max.
+    // Rays traced by the exact walk because they are outside φ_max or (exterior maps) start
+    // inside the box.
     uint64_t fallbacks() const { return m_fallbacks->load(std::memory_order_relaxed); }
     const Shape& shape() const { return m_shape; }
     const MarchOptions& options() const { return m_options; }
@@ -257,7 +268,7 @@ Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
     if (span.empty()) return hit;
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
-    if (!rayWithinPhiMax(d, m_tanPhi)) {
+    if (!rayWithinPhiMax(d, m_tanPhi) || (m_options.exterior && !originIsExterior(*m_surface, o))) {
         m_fallbacks->fetch_add(1, std::memory_order_relaxed);
         cellsHit(ray, span.tEnter, span.tExit, true, hit);
         return hit;

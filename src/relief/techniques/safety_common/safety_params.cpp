@@ -6,6 +6,8 @@ BuildOptions buildOptionsFrom(const ParamValues& params) {
     BuildOptions o;
     o.phiMaxDeg = params.get("phi-max");
     o.isotropic = params.getInt("isotropic") != 0;
+    o.exterior = params.getInt("exterior") != 0;
+    o.exteriorSlope = params.has("exterior-slope") && params.getInt("exterior-slope") != 0;
     return o;
 }
 
@@ -13,6 +15,7 @@ MarchOptions marchOptionsFrom(const ParamValues& params, const BuildOptions& bui
     MarchOptions m;
     m.maxSteps = params.getInt("max-steps");
     m.phiMaxDeg = build.phiMaxDeg;
+    m.exterior = build.exterior;
     m.viewDependent = params.getInt("view-dependent") != 0;
     m.positiveDistance = params.getInt("positive-distance") != 0;
     return m;
@@ -29,6 +32,17 @@ std::string phiMaxViewWarning(const ParamValues& params, std::span<const Ray> ra
                        100.0 * double(outside) / double(rays.size()), phiMax);
 }
 
+std::string viewWarning(const ParamValues& params, std::span<const Ray> rays) {
+    std::string warning = phiMaxViewWarning(params, rays);
+    if (params.getInt("exterior") == 0 || rays.empty()) return warning;
+    const vec3& o = rays.front().origin;
+    if (!warning.empty()) warning += "; ";
+    return warning + fmt::format("the maps serve exterior viewpoints only: if the camera "
+                                 "({:.1f}, {:.1f}, {:.1f}) is inside the relief's box below its "
+                                 "highest sample, its rays take the exact walk (results stay exact)",
+                                 o.x, o.y, o.z);
+}
+
 Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps& maps) {
     auto baked = optionsFromArrays(maps);
     if (!baked) return baked.error();
@@ -38,6 +52,11 @@ Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps
         return makeError(ErrorKind::BadArgument,
                          "{}: maps were baked with phi-max {}, not {}; bake them again",
                          maps.technique, baked->phiMaxDeg, asked.phiMaxDeg);
+    if ((asked.exterior && !baked->exterior) || (asked.exteriorSlope && !baked->exteriorSlope))
+        return makeError(ErrorKind::BadArgument,
+                         "{}: maps were baked for all rays (or with the all-vertex cone slope), "
+                         "not as asked (exterior / exterior-slope); bake them again",
+                         maps.technique);
     if (asked.isotropic && !baked->isotropic)
         return makeError(ErrorKind::BadArgument,
                          "{}: maps were baked directional, not isotropic; bake them again",

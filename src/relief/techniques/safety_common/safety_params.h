@@ -1,21 +1,44 @@
 #pragma once
 // Parameters shared by `safety-sd` and `safety-cc` and how they meet baked maps: the map's own
-// build parameters (phi-max, isotropic) win; asking for a different non-default value is an error.
+// build parameters (phi-max, isotropic, exterior, exterior-slope) win; asking for a different non-default value is an error.
 #include <relief/techniques/safety_common/safety_march.h>
 #include <relief/techniques/technique.h>
 
 namespace relief::safety {
 
+namespace param {
+inline constexpr ParamSpec kMaxSteps{"max-steps", 0, 0, 1e9, true,
+                                     "iteration cap (0 = none, exact); N > 0 is approximate"};
+inline constexpr ParamSpec kPhiMax{
+    "phi-max", 90, -89, 90, false,
+    "viewing-angle restriction (deg, §6.2.5): maps serve rays whose elevation angle is below "
+    "it (the paper uses -45); other rays take the exact walk; 90 = none"};
+inline constexpr ParamSpec kIsotropic{"isotropic", 0, 0, 1, true,
+                                      "1 = one shape for the four ray classes (their minimum)"};
+inline constexpr ParamSpec kViewDependent{
+    "view-dependent", 0, 0, 1, true,
+    "1 = S linear along the ray between test positions (§7; approximate)"};
+inline constexpr ParamSpec kPositiveDistance{
+    "positive-distance", 0, 0, 1, true,
+    "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)"};
+inline constexpr ParamSpec kExterior{
+    "exterior", 0, 0, 1, true,
+    "1 = maps for exterior rays only (§6.2, viewpoint outside the box; clamp mode): longer "
+    "distances; rays starting inside the box take the exact walk (results stay exact)"};
+inline constexpr ParamSpec kExteriorSlope{
+    "exterior-slope", 0, 0, 1, true,
+    "1 = cone slope over exterior-limiting triangles only (cone_ext, slow build; needs "
+    "exterior=1); 0 = N-buffer slope over all vertices (cone_all)"};
+}  // namespace param
+
 inline constexpr ParamSpec kSafetyParams[] = {
-    {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate"},
-    {"phi-max", 90, -89, 90, false,
-     "viewing-angle restriction (deg, §6.2.5): maps serve rays whose elevation angle is below "
-     "it (the paper uses -45); other rays take the exact walk; 90 = none"},
-    {"isotropic", 0, 0, 1, true, "1 = one shape for the four ray classes (their minimum)"},
-    {"view-dependent", 0, 0, 1, true,
-     "1 = S linear along the ray between test positions (§7; approximate)"},
-    {"positive-distance", 0, 0, 1, true,
-     "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)"},
+    param::kMaxSteps,      param::kPhiMax,           param::kIsotropic,
+    param::kViewDependent, param::kPositiveDistance, param::kExterior,
+};
+// safety-cc adds the choice of cone slope.
+inline constexpr ParamSpec kSafetyCcParamList[] = {
+    param::kMaxSteps,         param::kPhiMax,   param::kIsotropic,     param::kViewDependent,
+    param::kPositiveDistance, param::kExterior, param::kExteriorSlope,
 };
 
 BuildOptions buildOptionsFrom(const ParamValues& params);
@@ -23,6 +46,9 @@ MarchOptions marchOptionsFrom(const ParamValues& params, const BuildOptions& bui
 // The renderer's warning when primary rays fall outside phi-max (they stay exact, but take the
 // slow exact walk). Uses the requested phi-max; empty when all rays are within it.
 std::string phiMaxViewWarning(const ParamValues& params, std::span<const Ray> rays);
+// phiMaxViewWarning, plus, with exterior=1, that a camera inside the relief's box takes the
+// exact walk (the warning cannot see the box, so it names the camera position).
+std::string viewWarning(const ParamValues& params, std::span<const Ray> rays);
 
 // The build options of baked maps, checked against the requested parameters.
 Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps& maps);

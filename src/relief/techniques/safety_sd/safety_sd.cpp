@@ -18,6 +18,7 @@ Result<SafetySdTracer> makeSafetySdTracer(const TechniqueInput& input) {
         if (!loaded) return loaded.error();
         map = std::make_shared<const safety::DistanceMap>(std::move(*loaded));
     } else {
+        if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
         map = std::make_shared<const safety::DistanceMap>(
             safety::buildDistanceMap(*input.surface, build));
     }
@@ -33,6 +34,7 @@ Result<std::unique_ptr<Tracer>> createSafetySd(const TechniqueInput& input) {
 
 Result<TechniqueMaps> buildSafetySdMaps(const TechniqueInput& input) {
     const safety::BuildOptions build = safety::buildOptionsFrom(input.params);
+    if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
     return safety::distanceMapToArrays(kName, safety::buildDistanceMap(*input.surface, build),
                                        build);
 }

@@ -8,6 +8,11 @@
 //   r is the offset of the closest column holding a limiting triangle (exactly, by the σ test on
 //   three points; no ray sampling). The tracer is exact (same hit/miss as `exact`, |Δt| ≤ 1e-3;
 //   the last interval is the reference's own cell test) and never overshoots.
+// exterior=1 (§6.2, clamp mode): distances for exterior rays only (cyl_ext) — the first column
+//   holding an exterior-limiting triangle (safety_common/safety_exterior.h: exact line-space
+//   test, blockers behind s_τ); rays whose origin is inside the box (below its highest sample)
+//   take the exact walk and are counted in fallbacks(). Recorded as the map attribute
+//   "exterior"; maps baked for all rays are refused when exterior=1 is asked.
 // Map: "sd", W×H, 4 channels (r per class, in centerlines, float-coded integers ≤ 255) or 1
 //   channel (isotropic: the minimum). In memory uint16 per texel and class.
 // Build cost: per texel and class, the wedge of columns 0..r (≈ 2r² triangles), cells whose

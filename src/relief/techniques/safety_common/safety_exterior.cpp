@@ -1,0 +1,318 @@
+#include <relief/techniques/safety_common/safety_exterior.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace relief::safety {
+
+namespace {
+
+// Where point p lies relative to the line through u and v (oriented +a): +1 above, −1 below,
+// 0 on it, within rounding, or when u, v do not define a line of the class (then every
+// half-plane keeps the vertex: conservative). One 3×3 determinant of primal coordinates.
+int sideOf(const PlanePoint& p, const PlanePoint& u, const PlanePoint& v) {
+    const double l1 = u.b * v.w - u.w * v.b;
+    const double l2 = u.w * v.a - u.a * v.w;
+    const double l3 = u.a * v.b - u.b * v.a;
+    const double value = l1 * p.a + l2 * p.b + l3 * p.w;
+    const double scale = (std::abs(l1) + std::abs(l2) + std::abs(l3)) *
+                         (std::abs(p.a) + std::abs(p.b) + std::abs(p.w));
+    if (l2 == 0.0 || std::abs(value) <= 1e-12 * scale) return 0;
+    return (value > 0.0) == (l2 > 0.0) ? 1 : -1;
+}
+
+constexpr size_t kMaxPieces = 64;  // beyond: call T limiting (conservative, never seen)
+
+}  // namespace
+
+LinePolygon linesThroughSegment(double a0, double y0, double y1, double lo, double hi) {
+    return {{{a0, y0, 1.0}, -1}, {{1.0, hi, 0.0}, +1}, {{a0, y1, 1.0}, +1}, {{1.0, lo, 0.0}, -1}};
+}
+
+bool clipLines(LinePolygon& lines, const LineHalfPlane& h) {
+    const size_t n = lines.size();
+    // Vertex k is the line through the points of edges k and k + 1.
+    auto inside = [&](size_t k) {
+        return sideOf(h.point, lines[k].point, lines[(k + 1) % n].point) * h.side >= 0;
+    };
+    uint64_t in = 0;
+    size_t count = 0;
+    for (size_t k = 0; k < n && k < 64; ++k)
+        if (inside(k)) in |= uint64_t(1) << k, ++count;
+    if (n > 64 || count == n) return true;  // untouched (or too big to track: keep, conservative)
+    if (count == 0) {
+        lines.clear();
+        return false;
+    }
+    auto isIn = [&](size_t k) { return (in >> (k % n)) & 1; };
+    size_t start = 0;
+    while (!(isIn(start) && !isIn(start + n - 1))) ++start;
+    size_t run = 0;
+    while (isIn(start + run)) ++run;
+    if (run != count) return true;  // not one run: rounding; keep everything (conservative)
+    LinePolygon out;
+    out.reserve(run + 2);
+    for (size_t k = 0; k <= run; ++k) out.push_back(lines[(start + k) % n]);
+    out.push_back(h);
+    lines = std::move(out);
+    return true;
+}
+
+void subtractBlocker(std::vector<LinePolygon>& pieces, const BlockerSegment& blocker) {
+    std::vector<LinePolygon> next;
+    next.reserve(pieces.size() + 1);
+    for (LinePolygon& piece : pieces) {
+        LinePolygon below = piece;  // lines passing below both endpoints
+        if (clipLines(piece, {blocker.p, +1}) && clipLines(piece, {blocker.q, +1}))
+            next.push_back(std::move(piece));
+        if (clipLines(below, {blocker.p, -1}) && clipLines(below, {blocker.q, -1}))
+            next.push_back(std::move(below));
+    }
+    pieces = std::move(next);
+}
+
+// ---- ExteriorVisibility ----
+
+ExteriorVisibility::ExteriorVisibility(const Surface& s) : m_surface(s) {
+    m_blocksY = (s.height() + 1 + 15) / 16;
+    m_blocksX = (s.width() + 1 + 15) / 16;
+    m_alongY.assign(size_t(s.width() + 1) * size_t(m_blocksY), Block{kInfinity, -kInfinity});
+    m_alongX.assign(size_t(s.height() + 1) * size_t(m_blocksX), Block{kInfinity, -kInfinity});
+    for (int cj = -1; cj < s.height(); ++cj)
+        for (int ci = -1; ci < s.width(); ++ci) {
+            const CellCorners c = s.cellCorners(ci, cj);
+            const float lo = std::min({c.z00, c.z10, c.z01, c.z11});
+            const float hi = std::max({c.z00, c.z10, c.z01, c.z11});
+            for (Block* b : {&m_alongY[size_t(ci + 1) * size_t(m_blocksY) + size_t((cj + 1) >> 4)],
+                             &m_alongX[size_t(cj + 1) * size_t(m_blocksX) + size_t((ci + 1) >> 4)]}) {
+                b->lo = std::min(b->lo, lo);
+                b->hi = std::max(b->hi, hi);
+            }
+        }
+}
+
+const ExteriorVisibility::Block& ExteriorVisibility::block(bool xClass, int line, int cell) const {
+    return xClass ? m_alongY[size_t(line + 1) * size_t(m_blocksY) + size_t((cell + 1) >> 4)]
+                  : m_alongX[size_t(line + 1) * size_t(m_blocksX) + size_t((cell + 1) >> 4)];
+}
+
+namespace {
+
+double planeAt(const LocalTriangle& t, double a, double b) { return t.z0 + t.pa * a + t.pb * b; }
+
+// Lowest and highest of T's plane over the rectangle [a0, a1] × [b0, b1].
+void planeRange(const LocalTriangle& t, double a0, double a1, double b0, double b1, double& lo,
+                double& hi) {
+    const double za = t.pa >= 0.0 ? t.pa : -t.pa, zb = t.pb >= 0.0 ? t.pb : -t.pb;
+    const double mid = planeAt(t, 0.5 * (a0 + a1), 0.5 * (b0 + b1));
+    const double half = 0.5 * (za * (a1 - a0) + zb * (b1 - b0));
+    lo = mid - half, hi = mid + half;
+}
+
+// The box [0, W] × [0, H] in a frame's local (a, b): border cells reach half a texel beyond it,
+// and nothing outside the box blocks (DESIGN §1).
+struct LocalBox {
+    double a0, a1, b0, b1;
+};
+
+LocalBox localBox(const Surface& s, const Frame& f) {
+    double a[2], b[2];
+    f.local(-0.5, -0.5, a[0], b[0]);
+    f.local(s.width() - 0.5, s.height() - 0.5, a[1], b[1]);
+    return {std::min(a[0], a[1]), std::max(a[0], a[1]), std::min(b[0], b[1]), std::max(b[0], b[1])};
+}
+
+// Clips [p, q] to the box (Liang–Barsky); false when nothing is left.
+bool clipToBox(const LocalBox& box, PlanePoint& p, PlanePoint& q) {
+    double t0 = 0.0, t1 = 1.0;
+    const double da = q.a - p.a, db = q.b - p.b;
+    auto edge = [&](double num, double den) {  // keep den·t ≤ num
+        if (den == 0.0) return num >= 0.0;
+        const double t = num / den;
+        if (den > 0.0) t1 = std::min(t1, t); else t0 = std::max(t0, t);
+        return t0 <= t1;
+    };
+    if (!(edge(p.a - box.a0, -da) && edge(box.a1 - p.a, da) && edge(p.b - box.b0, -db) &&
+          edge(box.b1 - p.b, db)))
+        return false;
+    const PlanePoint from = p;
+    p = {from.a + t0 * da, from.b + t0 * db, 1.0};
+    q = {from.a + t1 * da, from.b + t1 * db, 1.0};
+    return true;
+}
+
+// The segment S ∩ P_T on triangle `tri` (where its plane meets T's) inside the box, if any.
+void addBlocker(const LocalTriangle& t, const LocalTriangle& tri, double tolerance,
+                const LocalBox& box, std::vector<BlockerSegment>& out) {
+    double f[3];
+    for (int v = 0; v < 3; ++v) {
+        f[v] = tri.z[v] - planeAt(t, tri.a[v], tri.b[v]);
+        if (std::abs(f[v]) <= tolerance) f[v] = 0.0;
+    }
+    const double lo = std::min({f[0], f[1], f[2]}), hi = std::max({f[0], f[1], f[2]});
+    // Wholly below or above P_T: no segment (a region of S above P_T is entered through the
+    // segment of a neighbour); coplanar: lines on it only touch S, its edges are neighbours'.
+    if (lo > 0.0 || hi < 0.0 || (lo == 0.0 && hi == 0.0)) return;
+    PlanePoint points[3];
+    int count = 0;
+    for (int v = 0; v < 3 && count < 3; ++v) {
+        if (f[v] == 0.0) points[count++] = {tri.a[v], tri.b[v], 1.0};
+        const int w = (v + 1) % 3;
+        if ((f[v] < 0.0 && f[w] > 0.0) || (f[v] > 0.0 && f[w] < 0.0)) {
+            const double s = f[v] / (f[v] - f[w]);
+            points[count++] = {tri.a[v] + s * (tri.a[w] - tri.a[v]),
+                               tri.b[v] + s * (tri.b[w] - tri.b[v]), 1.0};
+        }
+    }
+    if (count < 2) return;  // a single touching point blocks no line in the closed sense
+    PlanePoint p = points[0], q = points[count - 1];
+    if (clipToBox(box, p, q)) out.push_back({p, q});
+}
+
+// Has some line of the pieces left for good, at abscissa `a` (all blockers in [a, a0) already
+// removed)? A vertex of a piece is one line (through two of its points); it has left when it is
+// outside the box across the axis there, or at or above every sample and not descending
+// backward. One such line is a witness: T is limiting.
+bool someLineEscaped(const std::vector<LinePolygon>& pieces, const LocalTriangle& t, double a,
+                     const LocalBox& box, double maxZ) {
+    for (const LinePolygon& piece : pieces)
+        for (size_t k = 0; k < piece.size(); ++k) {
+            const PlanePoint& u = piece[k].point;
+            const PlanePoint& v = piece[(k + 1) % piece.size()].point;
+            const double l1 = u.b * v.w - u.w * v.b, l2 = u.w * v.a - u.a * v.w;
+            const double l3 = u.a * v.b - u.b * v.a;
+            if (std::abs(l2) <= 1e-12 * (std::abs(l1) + std::abs(l3))) continue;
+            const double slope = -l1 / l2, b = -(l1 * a + l3) / l2;
+            if (b < box.b0 || b > box.b1) return true;
+            if (planeAt(t, a, b) >= maxZ && t.pa + t.pb * slope <= 0.0) return true;
+        }
+    return false;
+}
+
+}  // namespace
+
+bool ExteriorVisibility::columnBlockers(const Frame& f, const SegmentHeights& seg,
+                                        const LocalTriangle& t, int ac, double mlo, double mhi,
+                                        std::vector<BlockerSegment>& out) const {
+    const Surface& s = m_surface;
+    const bool xClass = f.cls < kYPlus;
+    int ci, cj;
+    f.worldCell(ac, 0, ci, cj);
+    const int line = xClass ? ci : cj;
+    if (line < -1 || line > (xClass ? s.width() : s.height()) - 1) return false;
+    const int cross = xClass ? s.height() : s.width();
+    // The shaft of lines through s_τ with slopes in [mlo, mhi], over this column.
+    const double d0 = double(seg.a0 - ac - 1), d1 = double(seg.a0 - ac);
+    const double bmin = std::min(seg.b0 - 0.5 - mhi * d0, seg.b0 - 0.5 - mhi * d1);
+    const double bmax = std::max(seg.b0 + 0.5 - mlo * d0, seg.b0 + 0.5 - mlo * d1);
+    const int bc0 = std::max(int(std::floor(bmin)), -1);
+    const int bc1 = std::min(int(std::floor(bmax)), cross - 1);
+    const double tolerance = 1e-12 * (1.0 + double(s.maxZ()));
+    const LocalBox box = localBox(s, f);
+    std::array<LocalTriangle, 2> tris;
+    for (int bc = bc0; bc <= bc1;) {
+        const int blockEnd = std::min(bc1, (((bc + 1) >> 4) + 1) * 16 - 2);
+        double lo, hi;
+        planeRange(t, ac, ac + 1, bc, blockEnd + 1, lo, hi);
+        const Block& b = block(xClass, line, bc);
+        if (double(b.hi) < lo || double(b.lo) > hi) {  // the plane misses S over the block
+            bc = blockEnd + 1;
+            continue;
+        }
+        for (; bc <= blockEnd; ++bc) {
+            f.worldCell(ac, bc, ci, cj);
+            if (!cellTriangles(s, f, ci, cj, tris)) continue;
+            for (const LocalTriangle& tri : tris) addBlocker(t, tri, tolerance, box, out);
+        }
+    }
+    return true;
+}
+
+bool ExteriorVisibility::limiting(const Frame& f, const SegmentHeights& seg,
+                                  const LocalTriangle& t, double tanPhi) const {
+    m_tests.fetch_add(1, std::memory_order_relaxed);
+    double lo[2], hi[2];
+    const int arcs = allowedDirections(t.pa, t.pb, tanPhi, lo, hi);
+    if (arcs == 0) return false;
+    const double a0 = seg.a0, b0 = seg.b0;
+    // σ: where P_T is above S on s_τ (S − P_T is linear on each half of s_τ).
+    const double eps = 1e-9 * (1.0 + std::abs(seg.mid));
+    auto gap = [&](double b) { return planeAt(t, a0, b) - seg.at(b) - eps; };
+    double sigma[2][2];
+    int sigmas = 0;
+    const double halves[2][2] = {{b0 - 0.5, b0}, {b0, b0 + 0.5}};
+    for (const auto& half : halves) {
+        const double g0 = gap(half[0]), g1 = gap(half[1]);
+        if (g0 < 0.0 && g1 < 0.0) continue;
+        double y0 = half[0], y1 = half[1];
+        if (g0 < 0.0) y0 = half[0] + (half[1] - half[0]) * g0 / (g0 - g1);
+        if (g1 < 0.0) y1 = half[0] + (half[1] - half[0]) * g0 / (g0 - g1);
+        if (sigmas == 1 && sigma[0][1] == y0) {
+            sigma[0][1] = y1;  // one interval across the kink
+            continue;
+        }
+        sigma[sigmas][0] = y0, sigma[sigmas][1] = y1, ++sigmas;
+    }
+    if (sigmas == 0) return false;
+    // Initial pieces: through σ, slopes in an arc, crossing edge v0v1 or v1v2 of T (any line
+    // crossing the triangle crosses one of them), from either side.
+    std::vector<LinePolygon> pieces;
+    double mlo = 1.0, mhi = -1.0;
+    for (int k = 0; k < arcs; ++k) mlo = std::min(mlo, lo[k]), mhi = std::max(mhi, hi[k]);
+    for (int si = 0; si < sigmas; ++si)
+        for (int k = 0; k < arcs; ++k)
+            for (int e = 0; e < 2; ++e)
+                for (int side : {+1, -1}) {
+                    LinePolygon lines =
+                        linesThroughSegment(a0, sigma[si][0], sigma[si][1], lo[k], hi[k]);
+                    const PlanePoint p{t.a[e], t.b[e], 1.0}, q{t.a[e + 1], t.b[e + 1], 1.0};
+                    if (clipLines(lines, {p, side}) && clipLines(lines, {q, -side}))
+                        pieces.push_back(std::move(lines));
+                }
+    if (pieces.empty()) return false;
+    // Lines through s_τ and T: their slopes lie between those towards T's vertices (when T is
+    // strictly ahead), which narrows the shaft searched for blockers.
+    bool ahead = true;
+    double slo = kInfinity, shi = -kInfinity;
+    for (int v = 0; v < 3; ++v) {
+        const double da = t.a[v] - a0;
+        if (da <= 1e-9) ahead = false;
+        if (!ahead) break;
+        for (double y : {b0 - 0.5, b0 + 0.5}) {
+            slo = std::min(slo, (t.b[v] - y) / da);
+            shi = std::max(shi, (t.b[v] - y) / da);
+        }
+    }
+    if (ahead && std::max(mlo, slo) <= std::min(mhi, shi))
+        mlo = std::max(mlo, slo), mhi = std::min(mhi, shi);
+    // Blockers column by column backward from s_τ (nearest first: they cut most), until no
+    // line is left, the box ends, or the shaft is above every sample for good.
+    const double maxZ = m_surface.maxZ();
+    const double riseLo = -t.pa - t.pb * mhi, riseHi = -t.pa - t.pb * mlo;  // dz/d(backward)
+    std::vector<BlockerSegment> blockers;
+    uint64_t used = 0;
+    const LocalBox box = localBox(m_surface, f);
+    for (int ac = seg.a0 - 1;; --ac) {
+        if (someLineEscaped(pieces, t, ac + 1, box, maxZ)) break;
+        const double d0 = double(seg.a0 - ac - 1);
+        const double zLo = planeAt(t, a0 - d0, b0 - 0.5 - mhi * d0);
+        const double zHi = planeAt(t, a0 - d0, b0 + 0.5 - mlo * d0);
+        if (std::min(zLo, zHi) > maxZ && riseLo >= 0.0 && riseHi >= 0.0) break;  // sky
+        blockers.clear();
+        if (!columnBlockers(f, seg, t, ac, mlo, mhi, blockers)) break;  // out of the box
+        used += blockers.size();
+        for (const BlockerSegment& b : blockers) {
+            subtractBlocker(pieces, b);
+            if (pieces.empty()) break;
+            if (pieces.size() > kMaxPieces) {
+                m_blockers.fetch_add(used, std::memory_order_relaxed);
+                return true;
+            }
+        }
+        if (pieces.empty()) break;
+    }
+    m_blockers.fetch_add(used, std::memory_order_relaxed);
+    return !pieces.empty();
+}
+
+}  // namespace relief::safety
