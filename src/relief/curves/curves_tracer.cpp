@@ -63,6 +63,7 @@ Hit hitAt(const Ray& ray, double t, int evaluations) {
 
 Hit CurvesTracer::trace(const Ray& ray) const {
     const Surface& s = *m_surface;
+    if (s.clip(ray).empty()) return Hit{};  // misses the box, or not a ray (NaN, inf, zero)
     const vec3 d = glm::normalize(ray.direction);
     const double horizontal = std::hypot(double(d.x), double(d.y));
     const double eyeZ = ray.origin.z;

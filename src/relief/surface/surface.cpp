@@ -1,5 +1,7 @@
 #include <relief/surface/surface.h>
 
+#include <cmath>
+
 #include <algorithm>
 
 namespace relief {
@@ -78,6 +80,11 @@ RayInterval Surface::clip(const Ray& ray) const {
     RayInterval r{0.0f, ray.tMax};
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
+    // The readers refuse such rays; one built in code must miss rather than walk garbage (a NaN
+    // compares false everywhere, an infinite origin puts every t at ±inf).
+    const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
+                        std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
+    if (!finite || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) || !(ray.tMax > 0.0f)) return RayInterval{};
     bool inside = clipSlab(o.z, d.z, 0.0f, m_depth, r.tEnter, r.tExit);
     if (m_edge == EdgeMode::Clamp) {
         inside = inside && clipSlab(o.x, d.x, 0.0f, float(m_width), r.tEnter, r.tExit) &&

@@ -16,7 +16,7 @@ Hit trace(Ray ray) {
         const vec3 p = at(ray, t);
         const vec2 cone = coneAt(p.x, p.y);
         ++hit.fetches;
-        if (p.z >= cone.x) {
+        if (p.z >= cone.x && p.z > 0.0) {  // on the floor the cell test decides (cone.h)
             const float dt = coneStep(p.z, cone.x, cone.y, horizontal, d.z);
             if (dt >= kConeStall) {
                 precise float tNext = t + dt;

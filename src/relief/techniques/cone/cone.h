@@ -60,7 +60,9 @@ inline Hit ConeTracer::trace(const Ray& ray) const {
         const vec3 p = ray.at(t);
         const vec2 cone = m_map->at(p.x, p.y);
         ++hit.fetches;
-        if (p.z >= cone.x) {
+        // On the floor (z ≤ 0) the cell test decides: a ray entering from below meets the solid
+        // there even where a = 0 (depth 0, or a flat floor), which a cone step would skip.
+        if (p.z >= cone.x && p.z > 0.0f) {
             const float dt = coneStep(p.z, cone.x, cone.y, horizontal, d.z);
             if (dt >= m_limits.stall) {
                 if (t + dt >= span.tExit)  // leaves the box without meeting S inside it
