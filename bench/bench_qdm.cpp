@@ -5,6 +5,7 @@
 // real global relief at the map size), plus build times. Writes a markdown report.
 //   bench_qdm [--quick] [--size N] [--image WxH] [--threads N] [--big] [--out FILE]
 //   bench_qdm --builds N[,N...] [--threads N] [--out FILE]   qdm build times only (wall, CPU)
+//   --gens G[,G...]: only these generators (no real maps), e.g. --builds 512,1024 --gens peaks6,fbm
 #include "bench_common.h"
 
 #include <relief/core/generators.h>
@@ -15,6 +16,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstring>
@@ -71,10 +73,16 @@ constexpr RealMap kRealMaps[] = {
     {"earth-topology-2048x1024.png", 900, 0, "topology africa-europe"},
 };
 
+std::vector<std::string> g_onlyGenerators;  // --gens: empty = all maps
+
 std::vector<MapCase> mapCases(int n) {
     std::vector<MapCase> cases;
     for (const char* g : {"sine", "peaks6", "fbm", "terraces", "walls"})
-        cases.push_back({fmt::format("{} {}²", g, n), surfaceOf(*generateHeightfield(g, n, n, 1))});
+        if (g_onlyGenerators.empty() || std::find(g_onlyGenerators.begin(), g_onlyGenerators.end(),
+                                                  std::string(g)) != g_onlyGenerators.end())
+            cases.push_back(
+                {fmt::format("{} {}²", g, n), surfaceOf(*generateHeightfield(g, n, n, 1))});
+    if (!g_onlyGenerators.empty()) return cases;
     for (const RealMap& real : kRealMaps) {
         auto hf = loadHeightfield(std::string("/work/shared/data/") + real.file);
         if (hf.ok() && real.cropX >= 0) hf = crop(*hf, real.cropX, real.cropY, n);
@@ -296,11 +304,17 @@ int main(int argc, char** argv) {
         else if (!std::strcmp(argv[k], "--builds") && k + 1 < argc)
             ok = !(buildSizes = parseSizes(argv[++k])).empty();
         else if (!std::strcmp(argv[k], "--out") && k + 1 < argc) outPath = argv[++k];
-        else ok = false;
+        else if (!std::strcmp(argv[k], "--gens") && k + 1 < argc) {
+            for (const char* p = argv[++k]; *p;) {
+                const char* end = std::strchr(p, ',');
+                g_onlyGenerators.emplace_back(p, end ? size_t(end - p) : std::strlen(p));
+                p = end ? end + 1 : p + std::strlen(p);
+            }
+        } else ok = false;
     }
     if (!ok) {
         std::fprintf(stderr, "usage: bench_qdm [--quick] [--size N] [--image WxH] [--big] "
-                             "[--builds N,N...] [--threads N] [--out FILE]\n");
+                             "[--builds N,N...] [--gens G,G...] [--threads N] [--out FILE]\n");
         return 1;
     }
     const ThreadLimit limit(threads);

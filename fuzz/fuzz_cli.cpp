@@ -1,12 +1,18 @@
 // libFuzzer target: the option parser of every `relief` command (the command table of
 // src/relief/cli/main.cpp, CLI11 with the commands' checks and conversions). The input is the
-// argument list, NUL-separated, after "relief". The commands' callbacks, which do the work, are
-// replaced by no-ops: this target parses, it never loads or renders. Seeds: fuzz/corpus/cli/.
+// argument list, NUL-separated, after "relief". The top-level parse-complete callback, which
+// CLI11 runs after every option is parsed and checked and before any command's callback, stops
+// the run: this target parses, it never loads or renders. (The commands' callbacks must stay:
+// they own the storage their options write to.) Seeds: fuzz/corpus/cli/.
 #include <relief/cli/common.h>
 
 #include <algorithm>
 #include <string>
 #include <vector>
+
+namespace {
+struct ParsedOnly {};
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace relief::cli;
@@ -22,10 +28,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
 
     CLI::App app{"relief"};
     addCommands(app);
-    for (CLI::App* command : app.get_subcommands([](CLI::App*) { return true; }))
-        command->callback([] {});
+    app.parse_complete_callback([] { throw ParsedOnly{}; });
     try {
         app.parse(int(argv.size()), argv.data());
+    } catch (const ParsedOnly&) {
     } catch (const CLI::CallForHelp&) {
         (void)app.help();  // the formatter runs over every option of the app
     } catch (const CLI::CallForAllHelp&) {

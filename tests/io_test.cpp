@@ -683,6 +683,20 @@ const Hostile kHostile[] = {
          return t.withBytes("huffman.jpg", jpeg);
      },
      ErrorKind::InvalidInput, {"huffman.jpg", "corrupt JPEG: bad Huffman table"}},
+    // Found by a longer fuzz_jpeg run (UBSan): a progressive AC scan naming an AC table no DHT
+    // defined made stb_image read an uninitialized table and index far out of bounds.
+    {"jpeg_scan_with_undefined_huffman_table",
+     [](IoTest& t) {
+         return t.withBytes("scan.jpg", readBytes(sourceFile("fuzz/corpus/jpeg/regression-undefined-ac-table.jpg")));
+     },
+     ErrorKind::InvalidInput, {"scan.jpg", "uses a Huffman table that is not defined"}},
+    // Found by longer fuzz_exr / fuzz_map_file runs (UBSan): a preview attribute of
+    // 2^31 × 2^31 pixels overflowed the header walk's size check.
+    {"exr_preview_size_overflow",
+     [](IoTest& t) {
+         return t.withBytes("preview.exr", readBytes(sourceFile("fuzz/corpus/exr/regression-preview-size-overflow.exr")));
+     },
+     ErrorKind::InvalidInput, {"preview.exr", "(preview) claims more bytes"}},
     // Found by fuzz_map_file: OpenEXR 3.1 allocates an attribute's declared size before reading
     // it, so these 300 bytes cost 2 GB. Refused before OpenEXR sees the header.
     {"exr_attribute_claims_2gb",

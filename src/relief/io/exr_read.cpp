@@ -95,9 +95,10 @@ std::optional<std::string> exrHeaderProblem(FileReader& file) {
                 }
             } else if (type == "preview") {
                 int64_t width = 0, height = 0;
-                if (!readInt(width) || !readInt(height) ||
-                    !skip(int64_t(uint32_t(width)) * int64_t(uint32_t(height)) * 4))
-                    return tooLong();
+                if (!readInt(width) || !readInt(height)) return tooLong();
+                // Two 32-bit sizes: their product fits in 64 bits unsigned, times 4 may not.
+                const uint64_t pixels = uint64_t(uint32_t(width)) * uint64_t(uint32_t(height));
+                if (pixels > uint64_t(file.size()) / 4 || !skip(int64_t(pixels) * 4)) return tooLong();
             } else if (type == "stringvector") {
                 for (int64_t read = 0, length = 0; read < size; read += 4 + length)
                     if (!readInt(length) || !skip(length)) return tooLong();

@@ -3,6 +3,8 @@
 // a file without its end-of-image marker is refused as truncated.
 #include <relief/io/read_common.h>
 
+#include <array>
+
 #include <stb/stb_image.h>
 
 #include <climits>
@@ -48,16 +50,37 @@ Status checkFrame(const std::string& path, unsigned char marker,
 // stb_image builds each Huffman table without checking that its 16 code counts add up to at most
 // 256 symbols, and writes past its 257-entry size table when they do (found by fuzz_jpeg). A DHT
 // segment holds tables of: class/id, 16 counts, then as many symbols as the counts add up to.
-bool huffmanTablesValid(std::span<const unsigned char> segment) {
+// `defined` records the tables seen, indexed class * 4 + id.
+bool readHuffmanTables(std::span<const unsigned char> segment, std::array<bool, 8>& defined) {
     size_t pos = 0;
     while (pos < segment.size()) {
         if (pos + 17 > segment.size()) return false;
+        const unsigned tableClass = segment[pos] >> 4, id = segment[pos] & 15;
+        if (tableClass > 1 || id > 3) return false;
         size_t symbols = 0;
         for (size_t i = 1; i <= 16; ++i) symbols += segment[pos + i];
         if (symbols > 256) return false;
+        defined[tableClass * 4 + id] = true;
         pos += 17 + symbols;
     }
     return pos == segment.size();
+}
+
+// stb_image also decodes a scan with a Huffman table no DHT defined, reading an uninitialized
+// table and indexing far out of bounds (found by fuzz_jpeg: a progressive AC scan with only a DC
+// table). An SOS segment: component count, (component, DC id << 4 | AC id) each, then Ss, Se, A;
+// a scan uses DC tables when Ss = 0 and AC tables when Se > 0.
+bool scanTablesDefined(std::span<const unsigned char> segment, const std::array<bool, 8>& defined) {
+    if (segment.empty()) return false;
+    const size_t components = segment[0];
+    if (segment.size() < 1 + 2 * components + 3) return false;
+    const unsigned spectralStart = segment[1 + 2 * components], spectralEnd = segment[2 + 2 * components];
+    for (size_t k = 0; k < components; ++k) {
+        const unsigned dc = segment[2 + 2 * k] >> 4, ac = segment[2 + 2 * k] & 15;
+        if (spectralStart == 0 && (dc > 3 || !defined[dc])) return false;
+        if (spectralEnd > 0 && (ac > 3 || !defined[4 + ac])) return false;
+    }
+    return true;
 }
 
 // Walks the segments from SOI to EOI; segment lengths are trusted only as far as the file goes.
@@ -67,6 +90,7 @@ Status checkJpegStructure(const std::string& path, std::span<const unsigned char
                          "{}: truncated JPEG (no end-of-image marker; the file ends early)", path);
     };
     size_t pos = 2;  // after SOI
+    std::array<bool, 8> huffmanDefined{};
     while (true) {
         while (pos + 1 < bytes.size() && bytes[pos] == 0xff && bytes[pos + 1] == 0xff) ++pos;
         if (pos + 2 > bytes.size()) return truncated();
@@ -86,9 +110,13 @@ Status checkJpegStructure(const std::string& path, std::span<const unsigned char
         pos += length;
         if (pos > bytes.size()) return truncated();
         if (Status s = checkFrame(path, marker, bytes.subspan(segment, length - 2)); !s) return s;
-        if (marker == 0xc4 && !huffmanTablesValid(bytes.subspan(segment, length - 2)))
+        if (marker == 0xc4 && !readHuffmanTables(bytes.subspan(segment, length - 2), huffmanDefined))
             return makeError(ErrorKind::InvalidInput,
                              "{}: corrupt JPEG: bad Huffman table at byte {}", path, segment);
+        if (marker == 0xda && !scanTablesDefined(bytes.subspan(segment, length - 2), huffmanDefined))
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: corrupt JPEG: scan at byte {} uses a Huffman table that is not defined",
+                             path, segment);
         if (marker == 0xda) pos = skipEntropyData(bytes, pos);  // SOS: scan data follows
     }
 }

@@ -20,11 +20,14 @@
 //   far, until the cone is final; then branch and bound on c (nodes by the largest c_j they
 //   could need); after 256 pops without a final cone, the cone by bisection on its slope
 //   (a monotone "no steeper point within reach" test, pruned pyramid searches that skip the disc
-//   already walked); then the paper's search over the points kept, by default on their upper
-//   convex bound (§4.1, Andrew's monotone chain). Output equals the paper's all-cells builder
-//   (tests, both paths). Time per texel: the walk is linear in the staircase's length (one point
-//   per ring on gently rising ground), so peaks6 grows ~N³: 256² 1.6 s, 512² 12.5 s CPU
-//   (docs/qdm.md); fbm 1024² 6.6 s wall. Memory: the pyramid plus 16 bytes per texel.
+//   already walked), warm-started from the previous texel's cone slope (rows in serpentine
+//   order, so it is a neighbour's: probes at g(1 ± 0.5 %) bracket the answer, and the walk
+//   before it is cut to 64 pops; neither changes the map); then the paper's search over the
+//   points kept, by default on their upper convex bound (§4.1, Andrew's monotone chain). Output
+//   equals the paper's all-cells builder (tests, both paths; warm start on/off bit for bit).
+//   Build cost (2 threads, docs/qdm.md): peaks6 (gently rising, long staircases) 512² 4.7 s,
+//   1024² 26 s CPU / 18–26 s wall (before the warm start 11.7 s and 69–74 s CPU); fbm 512² 1.2 s,
+//   1024² 6.3 s CPU. Memory: the pyramid plus 16 bytes per texel.
 // Steps = quadric steps + exact cell tests; fetches = 1 per quadric step + 4 per cell test.
 // Departures: the apex is the max of S over the footprint and distances run from the
 //   footprint (the published centre apex is not conservative on S between samples or off the

@@ -23,7 +23,8 @@
 //   found by branch and bound. Where the walk meets a long staircase (gently rising ground: a
 //   record every ring) it hands over to a bisection on s: the loop ends on the first record s
 //   with no point within coneHeight / s steeper than s, a condition monotone in s (proof and
-//   search in qdm_map.cpp, QdmSearch::bisectCone).
+//   search in qdm_map.cpp, QdmSearch::bisectCone), whose first probes come from the previous
+//   (neighbouring) texel's slope: a tight bracket, the same answer.
 #include <relief/io/map_file.h>
 #include <relief/techniques/technique.h>
 
@@ -43,6 +44,9 @@ struct QdmBuildParams {
     // Pops of the nearest-first walk per texel before the cone is found by bisection instead
     // (same result; tests force each path with 0 and a huge budget).
     int64_t staircaseBudget = 256;
+    // Start the bisection from the previous (neighbouring) texel's cone slope: fewer queries,
+    // the same map (tests compare on/off bit for bit).
+    bool warmStart = true;
     static QdmBuildParams from(const ParamValues& params);
 };
 

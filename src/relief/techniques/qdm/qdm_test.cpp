@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 namespace relief {
@@ -86,6 +87,30 @@ TEST(QdmMap, FastBuilderAndConvexBoundEqualThePapersBuilder) {
                     }
                 }
             }
+}
+
+// The neighbour's cone slope only picks the bisection's first probes: with and without it the
+// fast builder returns the same map bit for bit (budget 0: every texel bisects from the root;
+// 16 and the default: from mid-walk), on maps large enough for long staircases.
+TEST(QdmMap, WarmStartChangesNothing) {
+    for (const char* g : {"peaks6", "fbm", "sine", "terraces", "walls", "spikes"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float ratio : {0.2f, 0.5f})
+                for (int64_t budget : {int64_t(0), int64_t(16), QdmBuildParams{}.staircaseBudget}) {
+                    const auto s = testing::makeSurface(g, 40, 36, edge);
+                    QdmBuildParams params{ratio, 0.0f, true};
+                    params.staircaseBudget = budget;
+                    params.warmStart = false;
+                    const auto cold = buildQdm(*s, params);
+                    params.warmStart = true;
+                    const auto warm = buildQdm(*s, params);
+                    ASSERT_EQ(cold.size(), warm.size());
+                    size_t differ = 0;
+                    for (size_t k = 0; k < cold.size(); ++k)
+                        differ += std::memcmp(&cold[k], &warm[k], sizeof(QdmTexel)) != 0;
+                    EXPECT_EQ(differ, 0u) << g << " " << toString(edge) << " ratio " << ratio
+                                          << " budget " << budget;
+                }
 }
 
 TEST(QdmTracer, StableRootMatchesTheQuadraticFormula) {
