@@ -209,7 +209,7 @@ std::string report(const Sums& s, const std::vector<BuildRow>& builds, ImageSize
         out += "\n";
     }
     out += fmt::format("\n### Cone minus qdm time per frame (ms, {}×{} px, mean over maps; "
-                       "negative = qdm faster) (Table 1)\n\n", size.width, size.height);
+                       "positive = qdm faster; the paper labels its Table 1 the other way round) (Table 1)\n\n", size.width, size.height);
     std::array<double, kCaps + 1> totals{};
     out += byElevationAndCap("elevation", [&](size_t e, size_t c) {
         const double d = (s.ms[1][e][c] - s.ms[0][e][c]) / n;

@@ -10,9 +10,10 @@ namespace relief::cli {
 void addCommands(CLI::App& app) {
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("relief ") + RELIEF_VERSION);
-    auto quiet = std::make_shared<bool>(false);
-    app.add_flag("-q,--quiet", *quiet, "no progress output")->configurable(false);
-    app.parse_complete_callback([quiet] { relief::Progress::setQuiet(*quiet); });
+    // A flag callback rather than a bound variable: nothing outlives the app (fuzz_cli replaces
+    // the app's parse-complete callback).
+    app.add_flag_callback("-q,--quiet", [] { relief::Progress::setQuiet(true); }, "no progress output")
+        ->configurable(false);
     addInfoCommand(app);
     addTraceCommand(app);
     addRenderCommand(app);
