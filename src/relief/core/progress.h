@@ -1,5 +1,6 @@
 #pragma once
-// A progress bar on stderr, drawn only when stderr is a terminal and not silenced.
+// Progress on stderr unless silenced: a bar redrawn in place on a terminal; elsewhere (logs, CI)
+// a plain line every 30 s, so that long work is visible without flooding short runs.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -16,13 +17,15 @@ public:
     static void setQuiet(bool quiet);
 
 private:
+    enum class Mode { Off, Bar, Lines };
     void draw(int64_t done);
+    void drawLine(int64_t done, double seconds);
 
     std::string m_label;
     int64_t m_total;
     std::atomic<int64_t> m_done{0};
     std::atomic<int64_t> m_lastDrawMs{-1000};
-    bool m_enabled;
+    Mode m_mode;
     std::chrono::steady_clock::time_point m_start;
 };
 
