@@ -209,6 +209,8 @@ TEST(CpuVsGlParameters, AgreeOnFixedRays) {
                                      {"safety-sd", {{"isotropic", 1}, {"positive-distance", 1}}},
                                      {"safety-cc", {{"view-dependent", 1}, {"phi-max", -30}}},
                                      {"safety-cc", {{"isotropic", 1}, {"max-steps", 5}}},
+                                     {"qdm", {{"max-distance", 3}, {"max-steps", 20}}},
+                                     {"qdm", {{"height-ratio", 0.5}, {"convex-bound", 0}}, EdgeMode::Clamp},
                                      {"safety-sd", {{"exterior", 1}}, EdgeMode::Clamp},
                                      {"safety-cc", {{"exterior", 1}, {"exterior-slope", 1}}, EdgeMode::Clamp}};
     for (const Case& c : cases) {

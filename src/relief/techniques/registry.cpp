@@ -59,7 +59,7 @@ const TechniqueInfo kTechniques[] = {
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
-     .buildMaps = buildQdmMaps},
+     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl"},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,

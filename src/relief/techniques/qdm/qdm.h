@@ -29,6 +29,7 @@
 //   1024² 26 s CPU / 18–26 s wall (before the warm start 11.7 s and 69–74 s CPU); fbm 512² 1.2 s,
 //   1024² 6.3 s CPU. Memory: the pyramid plus 16 bytes per texel.
 // Steps = quadric steps + exact cell tests; fetches = 1 per quadric step + 4 per cell test.
+// GLSL: qdm.glsl (+ qdm_map.glsl) mirrors trace: the same hits, t, steps and fetches.
 // Departures: the apex is the max of S over the footprint and distances run from the
 //   footprint (the published centre apex is not conservative on S between samples or off the
 //   texel centre); m_uv is kept at the exact footprint-to-cell distances with corner maxima
