@@ -59,6 +59,18 @@ void check(const TechniqueInfo& info, const Ray& ray, const Hit& h, const Hit& r
     }
 }
 
+// check, printing each ray on which an exact or conservative row breaks its contract (bit-exact
+// floats, so that the ray can be replayed and judged against the double-precision brute force).
+void checkAndReport(const TechniqueInfo& info, const Ray& ray, const Hit& h, const Hit& ref, Tally& tally) {
+    const Tally before = tally;
+    check(info, ray, h, ref, tally);
+    if (info.contract != Contract::Approximate &&
+        (tally.wrongHitMiss != before.wrongHitMiss || tally.pastFirstHit != before.pastFirstHit))
+        std::printf("  %s ray o=(%a, %a, %a) d=(%a, %a, %a): hit %d t %.9g, exact hit %d t %.9g\n",
+                    std::string(info.name).c_str(), ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x,
+                    ray.direction.y, ray.direction.z, h.hit, h.t, ref.hit, ref.t);
+}
+
 class ContractTest : public ::testing::TestWithParam<std::string_view> {};
 
 TEST_P(ContractTest, AgainstExactReference) {
@@ -78,7 +90,7 @@ TEST_P(ContractTest, AgainstExactReference) {
         (*tracer)->traceBatch(rays, hits);
         (*exact)->traceBatch(rays, reference);
         const Tally before = tally;
-        for (size_t k = 0; k < rays.size(); ++k) check(info, rays[k], hits[k], reference[k], tally);
+        for (size_t k = 0; k < rays.size(); ++k) checkAndReport(info, rays[k], hits[k], reference[k], tally);
         if (info.contract != Contract::Approximate &&
             (tally.wrongHitMiss != before.wrongHitMiss || tally.pastFirstHit != before.pastFirstHit))
             ADD_FAILURE() << info.name << " broke its contract on " << c.generator << " " << c.width
@@ -202,16 +214,7 @@ TEST_P(EdgeCaseTest, DegenerateMapsAndRays) {
             (*tracer)->traceBatch(rays, hits);
             (*exact)->traceBatch(rays, reference);
             const Tally before = tally;
-            for (size_t k = 0; k < rays.size(); ++k) {
-                const Tally one = tally;
-                check(info, rays[k], hits[k], reference[k], tally);
-                if (info.contract != Contract::Approximate &&
-                    (tally.wrongHitMiss != one.wrongHitMiss || tally.pastFirstHit != one.pastFirstHit))
-                    std::printf("  ray o=(%.9g, %.9g, %.9g) d=(%.9g, %.9g, %.9g): hit %d t %.9g, exact hit %d t %.9g\n",
-                                rays[k].origin.x, rays[k].origin.y, rays[k].origin.z, rays[k].direction.x,
-                                rays[k].direction.y, rays[k].direction.z, hits[k].hit, hits[k].t, reference[k].hit,
-                                reference[k].t);
-            }
+            for (size_t k = 0; k < rays.size(); ++k) checkAndReport(info, rays[k], hits[k], reference[k], tally);
             if (info.contract != Contract::Approximate)
                 EXPECT_TRUE(tally.wrongHitMiss == before.wrongHitMiss && tally.pastFirstHit == before.pastFirstHit &&
                             tally.beyondTolerance == before.beyondTolerance)
