@@ -1,4 +1,4 @@
-// libFuzzer target: JPEG (the marker walk, then stb_image), src/relief/io/jpeg_read.cpp, through the heightfield and colour
+// libFuzzer target: JPEG (the marker walk, then libjpeg-turbo), src/relief/io/jpeg_read.cpp, through the heightfield and colour
 // readers. Seeds: fuzz/corpus/jpeg/.
 #include "fuzz_common.h"
 

@@ -690,6 +690,13 @@ const Hostile kHostile[] = {
          return t.withBytes("scan.jpg", readBytes(sourceFile("fuzz/corpus/jpeg/regression-undefined-ac-table.jpg")));
      },
      ErrorKind::InvalidInput, {"scan.jpg", "uses a Huffman table that is not defined"}},
+    // Found by a longer fuzz_jpeg run (UBSan in stb_image: a shift by 32 on corrupt entropy
+    // data); JPEG now goes through libjpeg-turbo, whose corrupt-data warnings are errors.
+    {"jpeg_corrupt_entropy_data",
+     [](IoTest& t) {
+         return t.withBytes("entropy.jpg", readBytes(sourceFile("fuzz/corpus/jpeg/regression-corrupt-entropy-data.jpg")));
+     },
+     ErrorKind::InvalidInput, {"entropy.jpg", "corrupt or unsupported JPEG: Corrupt JPEG data"}},
     // Found by longer fuzz_exr / fuzz_map_file runs (UBSan): a preview attribute of
     // 2^31 × 2^31 pixels overflowed the header walk's size check.
     {"exr_preview_size_overflow",

@@ -1,13 +1,17 @@
-// JPEG through stb_image (baseline and progressive, grey or colour). stb_image decodes a truncated
-// stream without complaint, filling the rest with grey, so the marker structure is walked first:
-// a file without its end-of-image marker is refused as truncated.
+// JPEG through libjpeg-turbo (baseline and progressive, grey or colour). The marker structure is
+// walked first: a file without its end-of-image marker is refused as truncated, and damaged
+// Huffman tables or scans naming undefined tables are refused before any decoder sees them (the
+// checks were written against stb_image, which relief used before; fuzz_jpeg found three bugs in
+// Debian's stb_image, the last an undefined shift on corrupt entropy data that no structural
+// check can catch, hence libjpeg-turbo). libjpeg's warnings (corrupt data it would decode into
+// grey) are errors here: no silent wrong heights.
 #include <relief/io/read_common.h>
 
+#include <jpeglib.h>
+
 #include <array>
-
-#include <stb/stb_image.h>
-
 #include <climits>
+#include <csetjmp>
 #include <cstring>
 
 namespace relief {
@@ -121,6 +125,64 @@ Status checkJpegStructure(const std::string& path, std::span<const unsigned char
     }
 }
 
+// libjpeg reports errors through a callback that must not return: it jumps back to the call
+// that set `jump`, with the message kept.
+struct JpegErrors {
+    jpeg_error_mgr manager;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX] = "";
+};
+
+[[noreturn]] void jpegFail(j_common_ptr cinfo) {
+    auto* errors = reinterpret_cast<JpegErrors*>(cinfo->err);
+    (*cinfo->err->format_message)(cinfo, errors->message);
+    std::longjmp(errors->jump, 1);
+}
+
+void jpegMessage(j_common_ptr cinfo, int level) {
+    if (level < 0) jpegFail(cinfo);  // a warning: corrupt data
+}
+
+// One decompression of the bytes: the header only, or the pixels as `channels` (1 or 3) 8-bit
+// samples per pixel. No C++ object with a destructor lives between setjmp and the jumps.
+struct JpegResult {
+    int width = 0, height = 0, components = 0;
+    bool ok = false;
+};
+
+JpegResult runJpeg(std::span<const unsigned char> bytes, int channels, unsigned char* pixels, char* message) {
+    JpegResult result;
+    jpeg_decompress_struct cinfo;
+    JpegErrors errors;
+    cinfo.err = jpeg_std_error(&errors.manager);
+    errors.manager.error_exit = jpegFail;
+    errors.manager.emit_message = jpegMessage;
+    if (setjmp(errors.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        std::memcpy(message, errors.message, JMSG_LENGTH_MAX);
+        return result;
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_mem_src(&cinfo, bytes.data(), static_cast<unsigned long>(bytes.size()));
+    jpeg_read_header(&cinfo, TRUE);
+    result.width = int(cinfo.image_width);
+    result.height = int(cinfo.image_height);
+    result.components = cinfo.num_components;
+    if (pixels) {
+        cinfo.out_color_space = channels == 3 ? JCS_RGB : JCS_GRAYSCALE;
+        jpeg_start_decompress(&cinfo);
+        const size_t stride = size_t(cinfo.output_width) * size_t(channels);
+        while (cinfo.output_scanline < cinfo.output_height) {
+            JSAMPROW row = pixels + size_t(cinfo.output_scanline) * stride;
+            jpeg_read_scanlines(&cinfo, &row, 1);
+        }
+        jpeg_finish_decompress(&cinfo);
+    }
+    jpeg_destroy_decompress(&cinfo);
+    result.ok = true;
+    return result;
+}
+
 // The whole file in memory (JPEG is compressed, so this is small next to the pixels), checked,
 // with its size and component count from the header.
 class JpegStream {
@@ -135,36 +197,36 @@ public:
         if (!bytes) return bytes.error();
         m_bytes = std::move(*bytes);
         if (Status s = checkJpegStructure(m_file.path(), m_bytes); !s) return s.error();
-        int w = 0, h = 0;
-        if (!stbi_info_from_memory(m_bytes.data(), int(m_bytes.size()), &w, &h, &m_components))
-            return corrupt();
-        return ImageHeader{w, h, false};
+        char message[JMSG_LENGTH_MAX] = "";
+        const JpegResult header = runJpeg(m_bytes, 1, nullptr, message);
+        if (!header.ok) return corrupt(message);
+        if (header.components != 1 && header.components != 3)
+            return makeError(ErrorKind::Unsupported, "{}: JPEG with {} components (CMYK?): only grey or colour",
+                             m_file.path(), header.components);
+        m_components = header.components;
+        m_width = header.width;
+        m_height = header.height;
+        return ImageHeader{header.width, header.height, false};
     }
 
-    // 8-bit pixels with `channels` (1 or 3) per pixel; freed by the caller with stbi_image_free.
-    Result<unsigned char*> decode(int channels) {
-        int w = 0, h = 0, n = 0;
-        unsigned char* data =
-            stbi_load_from_memory(m_bytes.data(), int(m_bytes.size()), &w, &h, &n, channels);
-        if (!data) return corrupt();
-        return data;
+    // 8-bit pixels with `channels` (1 or 3) per pixel, row by row.
+    Result<std::vector<unsigned char>> decode(int channels) {
+        std::vector<unsigned char> pixels(size_t(m_width) * size_t(m_height) * size_t(channels));
+        char message[JMSG_LENGTH_MAX] = "";
+        if (!runJpeg(m_bytes, channels, pixels.data(), message).ok) return corrupt(message);
+        return pixels;
     }
 
     int channels() const { return m_components >= 3 ? 3 : 1; }
 
 private:
-    Error corrupt() const {
-        return makeError(ErrorKind::InvalidInput, "{}: corrupt or unsupported JPEG: {}",
-                         m_file.path(), stbi_failure_reason());
+    Error corrupt(const char* reason) const {
+        return makeError(ErrorKind::InvalidInput, "{}: corrupt or unsupported JPEG: {}", m_file.path(), reason);
     }
 
     FileReader& m_file;
     std::vector<unsigned char> m_bytes;
-    int m_components = 0;
-};
-
-struct StbFree {
-    void operator()(unsigned char* data) const { stbi_image_free(data); }
+    int m_components = 0, m_width = 0, m_height = 0;
 };
 
 class JpegHeightDecoder final : public HeightDecoder {
@@ -184,10 +246,9 @@ public:
         const PixelLayout layout{Scalar::U8, std::endian::native, m_stream.channels()};
         auto data = m_stream.decode(layout.channels);
         if (!data) return data.error();
-        std::unique_ptr<unsigned char, StbFree> owned(*data);
         const size_t stride = rowBytes(layout, m_width);
         for (size_t y = 0; y < pixels.size() / size_t(m_width); ++y)
-            convertRow(owned.get() + y * stride, layout, m_width, m_select,
+            convertRow(data->data() + y * stride, layout, m_width, m_select,
                        pixels.data() + y * size_t(m_width));
         return {};
     }
@@ -208,8 +269,7 @@ public:
     Status readPixels(std::span<Rgb8> pixels) override {
         auto data = m_stream.decode(3);
         if (!data) return data.error();
-        std::unique_ptr<unsigned char, StbFree> owned(*data);
-        std::memcpy(pixels.data(), owned.get(), pixels.size_bytes());
+        std::memcpy(pixels.data(), data->data(), pixels.size_bytes());
         return {};
     }
 
