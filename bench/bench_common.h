@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <initializer_list>
 #include <ctime>
 #include <fstream>
 #include <functional>
@@ -25,6 +27,70 @@ inline bool parseInt(const char* text, int& value) {
     if (!end || *end != '\0' || v < 0 || v > 4096) return false;
     value = int(v);
     return true;
+}
+
+// The repository's root: the bench executables get no RELIEF_SOURCE_DIR from the build, so this
+// header's own path locates data/ and ../shared/data.
+#ifndef RELIEF_SOURCE_DIR
+inline const std::string kSourceDir = [] {
+    std::string here = __FILE__;  // <root>/bench/bench_common.h
+    for (int up = 0; up < 2 && here.find('/') != std::string::npos; ++up)
+        here = here.substr(0, here.rfind('/'));
+    return here.empty() ? std::string(".") : here;
+}();
+#else
+inline const std::string kSourceDir = RELIEF_SOURCE_DIR;
+#endif
+
+// The options the benchmark executables share; each bench adds its own (BenchOption).
+struct CommonOptions {
+    bool quick = false;
+    int threads = 0;
+    int repeats = 0;  // 0 until parsed: then 3, or 1 with --quick
+    std::string out;
+    std::string dataDir;
+};
+
+// A bench's own option: a flag (`flag` set) or one taking a text value (`value` set).
+struct BenchOption {
+    const char* name;
+    bool* flag = nullptr;
+    std::string* value = nullptr;
+};
+
+// Reads --quick, --threads N, --repeats N (> 0), --out FILE, --data DIR, -h/--help and the
+// bench's own options. Returns 0 to go on, -1 after --help, or 1 after a usage error.
+inline int parseOptions(int argc, char** argv, const char* program, const char* help, CommonOptions& options,
+                        std::initializer_list<BenchOption> extra = {}) {
+    for (int k = 1; k < argc; ++k) {
+        const std::string arg = argv[k];
+        const bool hasValue = k + 1 < argc;
+        const auto own = std::find_if(extra.begin(), extra.end(), [&](const BenchOption& o) { return arg == o.name; });
+        if (arg == "-h" || arg == "--help") {
+            std::fputs(help, stdout);
+            return -1;
+        } else if (arg == "--quick") {
+            options.quick = true;
+        } else if (arg == "--threads" && hasValue && parseInt(argv[k + 1], options.threads)) {
+            ++k;
+        } else if (arg == "--repeats" && hasValue && parseInt(argv[k + 1], options.repeats) &&
+                   options.repeats > 0) {
+            ++k;
+        } else if (arg == "--out" && hasValue) {
+            options.out = argv[++k];
+        } else if (arg == "--data" && hasValue) {
+            options.dataDir = argv[++k];
+        } else if (own != extra.end() && own->flag) {
+            *own->flag = true;
+        } else if (own != extra.end() && own->value && hasValue) {
+            *own->value = argv[++k];
+        } else {
+            std::fprintf(stderr, "%s: error: bad or incomplete option '%s'\n%s", program, arg.c_str(), help);
+            return 1;
+        }
+    }
+    if (options.repeats == 0) options.repeats = options.quick ? 1 : 3;
+    return 0;
 }
 
 inline constexpr int kPacket = 4;  // 4×4 pixels = 16 rays

@@ -29,18 +29,6 @@ namespace {
 
 using namespace relief::bench;
 
-// The bench executables get no RELIEF_SOURCE_DIR from the build; their own path locates data/.
-#ifndef RELIEF_SOURCE_DIR
-const std::string kSourceDir = [] {
-    std::string here = __FILE__;  // <root>/bench/bench_exact_embree.cpp
-    for (int up = 0; up < 2 && here.find('/') != std::string::npos; ++up)
-        here = here.substr(0, here.rfind('/'));
-    return here.empty() ? std::string(".") : here;
-}();
-#else
-const std::string kSourceDir = RELIEF_SOURCE_DIR;
-#endif
-
 constexpr const char* kHelp = R"(usage: bench_exact_embree [options]
 Throughput of `exact` vs Embree 3 (rtcIntersect1, rtcIntersect16) on the same triangles and rays.
   --quick        small maps and image, one run (smoke test)
@@ -53,44 +41,14 @@ Throughput of `exact` vs Embree 3 (rtcIntersect1, rtcIntersect16) on the same tr
   -h, --help     this text
 )";
 
-struct Options {
-    bool quick = false;
+struct Options : CommonOptions {
     bool judge = false;
-    int threads = 0;
-    int repeats = 0;
-    std::string out;
-    std::string dataDir = kSourceDir + "/data";
 };
 
-// Returns 0 to go on, or an exit code.
+// Returns 0 to go on, -1 after --help, or an exit code.
 int parseOptions(int argc, char** argv, Options& options) {
-    for (int k = 1; k < argc; ++k) {
-        const std::string arg = argv[k];
-        const bool hasValue = k + 1 < argc;
-        if (arg == "-h" || arg == "--help") {
-            std::fputs(kHelp, stdout);
-            return -1;
-        } else if (arg == "--quick") {
-            options.quick = true;
-        } else if (arg == "--judge") {
-            options.judge = true;
-        } else if (arg == "--threads" && hasValue && parseInt(argv[k + 1], options.threads)) {
-            ++k;
-        } else if (arg == "--repeats" && hasValue && parseInt(argv[k + 1], options.repeats) &&
-                   options.repeats > 0) {
-            ++k;
-        } else if (arg == "--out" && hasValue) {
-            options.out = argv[++k];
-        } else if (arg == "--data" && hasValue) {
-            options.dataDir = argv[++k];
-        } else {
-            std::fprintf(stderr, "bench_exact_embree: error: bad or incomplete option '%s'\n%s",
-                         arg.c_str(), kHelp);
-            return 1;
-        }
-    }
-    if (options.repeats == 0) options.repeats = options.quick ? 1 : 3;
-    return 0;
+    options.dataDir = kSourceDir + "/data";
+    return bench::parseOptions(argc, argv, "bench_exact_embree", kHelp, options, {{"--judge", &options.judge}});
 }
 
 struct MapSpec {

@@ -35,17 +35,6 @@ namespace {
 
 using namespace relief::bench;
 
-#ifndef RELIEF_SOURCE_DIR
-const std::string kSourceDir = [] {
-    std::string here = __FILE__;  // <root>/bench/bench_quadtree.cpp
-    for (int up = 0; up < 2 && here.find('/') != std::string::npos; ++up)
-        here = here.substr(0, here.rfind('/'));
-    return here.empty() ? std::string(".") : here;
-}();
-#else
-const std::string kSourceDir = RELIEF_SOURCE_DIR;
-#endif
-
 constexpr const char* kHelp = R"(usage: bench_quadtree [options]
 Steps per ray vs map size, and throughput vs Embree, of quadtree, maxmip, quadtree-oriented.
   --quick        small maps and images, one run (no 8192² or earth map)
@@ -57,43 +46,14 @@ Steps per ray vs map size, and throughput vs Embree, of quadtree, maxmip, quadtr
   -h, --help     this text
 )";
 
-struct Options {
-    bool quick = false;
-    int threads = 0;
-    int repeats = 0;
-    std::string out, svg;
-    std::string dataDir = kSourceDir + "/../shared/data";
+struct Options : CommonOptions {
+    std::string svg;
 };
 
 // Returns 0 to go on, -1 after --help, or an exit code.
 int parseOptions(int argc, char** argv, Options& options) {
-    for (int k = 1; k < argc; ++k) {
-        const std::string arg = argv[k];
-        const bool hasValue = k + 1 < argc;
-        if (arg == "-h" || arg == "--help") {
-            std::fputs(kHelp, stdout);
-            return -1;
-        } else if (arg == "--quick") {
-            options.quick = true;
-        } else if (arg == "--threads" && hasValue && parseInt(argv[k + 1], options.threads)) {
-            ++k;
-        } else if (arg == "--repeats" && hasValue && parseInt(argv[k + 1], options.repeats) &&
-                   options.repeats > 0) {
-            ++k;
-        } else if (arg == "--out" && hasValue) {
-            options.out = argv[++k];
-        } else if (arg == "--svg" && hasValue) {
-            options.svg = argv[++k];
-        } else if (arg == "--data" && hasValue) {
-            options.dataDir = argv[++k];
-        } else {
-            std::fprintf(stderr, "bench_quadtree: error: bad or incomplete option '%s'\n%s",
-                         arg.c_str(), kHelp);
-            return 1;
-        }
-    }
-    if (options.repeats == 0) options.repeats = options.quick ? 1 : 3;
-    return 0;
+    options.dataDir = kSourceDir + "/../shared/data";
+    return bench::parseOptions(argc, argv, "bench_quadtree", kHelp, options, {{"--svg", nullptr, &options.svg}});
 }
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
