@@ -80,6 +80,21 @@ TEST(ConeMap, PyramidSearchEqualsBruteForceToTheBit) {
         }
 }
 
+// The relaxed search skips the walks its slope bound proves empty: on maps large enough for most
+// candidate rays to be skipped, the map is the one the full walks give, to the bit.
+TEST(ConeMap, RelaxedWalkSkipChangesNothing) {
+    for (const char* g : {"fbm", "peaks6", "walls"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            const auto s = testing::makeSurface(g, 96, 80, edge, 3);
+            const auto skipped = buildCones(*s, ConeKind::FaithfulRelaxed, true);
+            const auto walked = buildCones(*s, ConeKind::FaithfulRelaxed, false);
+            size_t differ = 0;
+            for (size_t k = 0; k < skipped.size(); ++k)
+                differ += skipped[k].x != walked[k].x || skipped[k].y != walked[k].y;
+            EXPECT_EQ(differ, 0u) << g << " edge " << int(edge);
+        }
+}
+
 TEST(ConeMap, QuantizationNeverWidens) {
     const auto s = testing::makeSurface("fbm", 32, 32, EdgeMode::Clamp);
     const auto cones = buildCones(*s, ConeKind::SafeStrict);
