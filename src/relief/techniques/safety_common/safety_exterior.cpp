@@ -7,18 +7,45 @@ namespace relief::safety {
 
 namespace {
 
-// Where point p lies relative to the line through u and v (oriented +a): +1 above, −1 below,
-// 0 on it, within rounding, or when u, v do not define a line of the class (then every
-// half-plane keeps the vertex: conservative). One 3×3 determinant of primal coordinates.
-int sideOf(const PlanePoint& p, const PlanePoint& u, const PlanePoint& v) {
+// The line through primal points u and v (oriented +a), as l1·a + l2·b + l3·w = 0.
+struct PrimalLine {
+    double l1, l2, l3, norm;  // norm: |l1| + |l2| + |l3|, the rounding scale
+};
+PrimalLine lineThrough(const PlanePoint& u, const PlanePoint& v) {
     const double l1 = u.b * v.w - u.w * v.b;
     const double l2 = u.w * v.a - u.a * v.w;
     const double l3 = u.a * v.b - u.b * v.a;
-    const double value = l1 * p.a + l2 * p.b + l3 * p.w;
-    const double scale = (std::abs(l1) + std::abs(l2) + std::abs(l3)) *
-                         (std::abs(p.a) + std::abs(p.b) + std::abs(p.w));
-    if (l2 == 0.0 || std::abs(value) <= 1e-12 * scale) return 0;
-    return (value > 0.0) == (l2 > 0.0) ? 1 : -1;
+    return {l1, l2, l3, std::abs(l1) + std::abs(l2) + std::abs(l3)};
+}
+
+// Where point p lies relative to line l: +1 above, −1 below, 0 on it, within rounding, or when
+// l is not a line of the class (then every half-plane keeps the vertex: conservative).
+int sideOf(const PlanePoint& p, const PrimalLine& l) {
+    const double value = l.l1 * p.a + l.l2 * p.b + l.l3 * p.w;
+    const double scale = l.norm * (std::abs(p.a) + std::abs(p.b) + std::abs(p.w));
+    if (l.l2 == 0.0 || std::abs(value) <= 1e-12 * scale) return 0;
+    return (value > 0.0) == (l.l2 > 0.0) ? 1 : -1;
+}
+
+// Relative to the line through u and v: one 3×3 determinant of primal coordinates.
+int sideOf(const PlanePoint& p, const PlanePoint& u, const PlanePoint& v) {
+    return sideOf(p, lineThrough(u, v));
+}
+
+// Does the blocker leave the piece whole? True when every line of the piece (its vertices: a
+// convex set of lines is the hull of them) passes strictly on the same side of both endpoints,
+// all above both or all below both: then one of the two clips keeps it unchanged and the other
+// leaves nothing, and no copy is made.
+bool leavesWhole(const LinePolygon& piece, const BlockerSegment& blocker) {
+    int common = 0;
+    const size_t n = piece.size();
+    for (size_t k = 0; k < n; ++k) {
+        const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % n].point);
+        const int sp = sideOf(blocker.p, l);
+        if (sp == 0 || sideOf(blocker.q, l) != sp || (common != 0 && sp != common)) return false;
+        common = sp;
+    }
+    return true;
 }
 
 constexpr size_t kMaxPieces = 64;  // beyond: call T limiting (conservative, never seen)
@@ -59,21 +86,22 @@ bool clipLines(LinePolygon& lines, const LineHalfPlane& h) {
 }
 
 void subtractBlocker(std::vector<LinePolygon>& pieces, const BlockerSegment& blocker) {
-    std::vector<LinePolygon> next;
-    next.reserve(pieces.size() + 1);
-    for (LinePolygon& piece : pieces) {
-        LinePolygon below = piece;  // lines passing below both endpoints
-        if (clipLines(piece, {blocker.p, +1}) && clipLines(piece, {blocker.q, +1}))
-            next.push_back(std::move(piece));
+    const size_t count = pieces.size();
+    for (size_t k = 0; k < count; ++k) {
+        if (leavesWhole(pieces[k], blocker)) continue;
+        LinePolygon below = pieces[k];  // lines passing below both endpoints
+        if (!(clipLines(pieces[k], {blocker.p, +1}) && clipLines(pieces[k], {blocker.q, +1})))
+            pieces[k].clear();
         if (clipLines(below, {blocker.p, -1}) && clipLines(below, {blocker.q, -1}))
-            next.push_back(std::move(below));
+            pieces.push_back(std::move(below));
     }
-    pieces = std::move(next);
+    std::erase_if(pieces, [](const LinePolygon& piece) { return piece.empty(); });
 }
 
 // ---- ExteriorVisibility ----
 
-ExteriorVisibility::ExteriorVisibility(const Surface& s) : m_surface(s) {
+ExteriorVisibility::ExteriorVisibility(const Surface& s, bool traceWitnesses)
+    : m_surface(s), m_traceWitnesses(traceWitnesses) {
     m_blocksY = (s.height() + 1 + 15) / 16;
     m_blocksX = (s.width() + 1 + 15) / 16;
     m_alongY.assign(size_t(s.width() + 1) * size_t(m_blocksY), Block{kInfinity, -kInfinity});
@@ -177,19 +205,88 @@ bool someLineEscaped(const std::vector<LinePolygon>& pieces, const LocalTriangle
                      const LocalBox& box, double maxZ) {
     for (const LinePolygon& piece : pieces)
         for (size_t k = 0; k < piece.size(); ++k) {
-            const PlanePoint& u = piece[k].point;
-            const PlanePoint& v = piece[(k + 1) % piece.size()].point;
-            const double l1 = u.b * v.w - u.w * v.b, l2 = u.w * v.a - u.a * v.w;
-            const double l3 = u.a * v.b - u.b * v.a;
-            if (std::abs(l2) <= 1e-12 * (std::abs(l1) + std::abs(l3))) continue;
-            const double slope = -l1 / l2, b = -(l1 * a + l3) / l2;
+            const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % piece.size()].point);
+            if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) continue;
+            const double slope = -l.l1 / l.l2, b = -(l.l1 * a + l.l3) / l.l2;
             if (b < box.b0 || b > box.b1) return true;
             if (planeAt(t, a, b) >= maxZ && t.pa + t.pb * slope <= 0.0) return true;
         }
     return false;
 }
 
+// The centroid of a piece's vertex lines in the dual plane: a line inside the piece (convex).
+bool pieceCentroid(const LinePolygon& piece, double a0, DualLine& out) {
+    double m = 0.0, c = 0.0;
+    int count = 0;
+    for (size_t k = 0; k < piece.size(); ++k) {
+        const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % piece.size()].point);
+        if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) return false;
+        m += -l.l1 / l.l2;
+        c += -(l.l1 * a0 + l.l3) / l.l2;
+        ++count;
+    }
+    if (count == 0) return false;
+    out = {m / count, c / count};
+    return true;
+}
+
 }  // namespace
+
+bool ExteriorVisibility::someLineTracedOut(const Frame& f, const LocalTriangle& t, double a0,
+                                           double from, const std::vector<LinePolygon>& pieces) const {
+    for (const LinePolygon& piece : pieces) {
+        DualLine line;
+        // The pieces may hold a few lines a blocker should have removed (borderline decisions
+        // keep lines), so a line that gets out from `from` is traced again from a0.
+        if (pieceCentroid(piece, a0, line) && escapesBackward(f, t, a0, from, line) &&
+            (from == a0 || escapesBackward(f, t, a0, a0, line)))
+            return true;
+    }
+    return false;
+}
+
+// Traced backward from `from` (≤ a0), does the line stay above S by a margin until it leaves
+// the box or rises above every sample? A witness of exterior-limiting when traced from a0. S is the max of two planes inside a cell (convex) and the line is
+// straight, so their gap is concave on each cell's piece of the line: checking it where the
+// line crosses the cell grid (integer a or b) checks it everywhere.
+bool ExteriorVisibility::escapesBackward(const Frame& f, const LocalTriangle& t, double a0,
+                                         double from, const DualLine& line) const {
+    const Surface& s = m_surface;
+    const LocalBox box = localBox(s, f);
+    const double rise = t.pa + t.pb * line.m;  // dz/da along the line
+    const double margin = 1e-6 * (1.0 + double(s.maxZ()));
+    auto bAt = [&](double a) { return line.c + line.m * (a - a0); };
+    auto gap = [&](double a) {
+        const double b = bAt(a);
+        double X, Y;
+        f.world(a, b, X, Y);
+        return planeAt(t, a, b) - double(s.heightAt(float(X + 0.5), float(Y + 0.5)));
+    };
+    // The next grid lines crossed backward (integer counters: progress whatever the rounding).
+    double gridA = std::ceil(from) - 1.0;
+    double gridB = line.m > 0.0 ? std::ceil(bAt(from)) - 1.0 : std::floor(bAt(from)) + 1.0;
+    const double boxExit = line.m > 0.0   ? a0 + (box.b0 - line.c) / line.m
+                           : line.m < 0.0 ? a0 + (box.b1 - line.c) / line.m
+                                          : -kInfinity;
+    if (!(gap(from) > margin)) return false;
+    for (double a = from;;) {
+        const double b = bAt(a);
+        if (a <= box.a0 || b <= box.b0 || b >= box.b1) return true;
+        if (rise <= 0.0 && planeAt(t, a, b) > double(s.maxZ()) + margin) return true;
+        const double crossB = line.m != 0.0 ? a0 + (gridB - line.c) / line.m : -kInfinity;
+        if (crossB >= gridA) {
+            a = crossB;
+            gridB += line.m > 0.0 ? -1.0 : 1.0;
+        } else {
+            a = gridA;
+            gridA -= 1.0;
+        }
+        const bool leaves = a <= std::max(box.a0, boxExit);  // through a box face: checked too
+        a = std::max({a, box.a0, boxExit});
+        if (!(gap(a) > margin)) return false;
+        if (leaves) return true;
+    }
+}
 
 bool ExteriorVisibility::columnBlockers(const Frame& f, const SegmentHeights& seg,
                                         const LocalTriangle& t, int ac, double mlo, double mhi,
@@ -292,8 +389,19 @@ bool ExteriorVisibility::limiting(const Frame& f, const SegmentHeights& seg,
     std::vector<BlockerSegment> blockers;
     uint64_t used = 0;
     const LocalBox box = localBox(m_surface, f);
+    // Most tested triangles are limiting, and the line that shows it is usually found long before
+    // the blockers are exhausted: every few columns (after 0, 1, 2, 4, … of them) one line inside
+    // each piece, clear of every blocker subtracted so far, is traced on from there.
+    int witnessColumn = seg.a0 - 1;
     for (int ac = seg.a0 - 1;; --ac) {
         if (someLineEscaped(pieces, t, ac + 1, box, maxZ)) break;
+        if (m_traceWitnesses && ac == witnessColumn) {
+            if (someLineTracedOut(f, t, a0, double(ac + 1), pieces)) {
+                m_witnessed.fetch_add(1, std::memory_order_relaxed);
+                break;
+            }
+            witnessColumn = seg.a0 - 1 - 2 * (seg.a0 - 1 - ac) - 1;
+        }
         const double d0 = double(seg.a0 - ac - 1);
         const double zLo = planeAt(t, a0 - d0, b0 - 0.5 - mhi * d0);
         const double zHi = planeAt(t, a0 - d0, b0 + 0.5 - mlo * d0);

@@ -70,19 +70,28 @@ struct BlockerSegment {
 // Removes from every piece the lines crossing the blocker (each piece leaves 0, 1 or 2).
 void subtractBlocker(std::vector<LinePolygon>& pieces, const BlockerSegment& blocker);
 
+// A line of P_T in slope–intercept form: b = c + m·(a − a0).
+struct DualLine {
+    double m, c;
+};
+
 // The exterior test over one surface (clamp mode). Thread-safe; holds block maxima of the cells
 // so that the blocker search skips low terrain 16 cells at a time.
 class ExteriorVisibility {
 public:
-    explicit ExteriorVisibility(const Surface& surface);
+    // traceWitnesses: look for a witness line by tracing (off only for the test that checks it
+    // changes no answer).
+    explicit ExteriorVisibility(const Surface& surface, bool traceWitnesses = true);
 
     // Is T exterior-limiting for the texel of `seg` (frame f), rays with slope ≤ tanPhi?
     // Callers first check isLimiting (all rays): exterior-limiting implies it.
     bool limiting(const Frame& f, const SegmentHeights& seg, const LocalTriangle& t,
                   double tanPhi) const;
 
-    // Counters (all threads): triangles tested, blockers subtracted.
+    // Counters (all threads): triangles tested, found limiting by a traced witness line, and
+    // blockers subtracted.
     uint64_t tests() const { return m_tests.load(std::memory_order_relaxed); }
+    uint64_t witnessed() const { return m_witnessed.load(std::memory_order_relaxed); }
     uint64_t blockers() const { return m_blockers.load(std::memory_order_relaxed); }
 
 private:
@@ -95,11 +104,18 @@ private:
         float lo, hi;
     };
     const Block& block(bool xClass, int line, int cell) const;
+    // Witnesses: a line of P_T (through s_τ at a0) traced backward from `from`; the centroid
+    // line of each piece.
+    bool escapesBackward(const Frame& f, const LocalTriangle& t, double a0, double from,
+                         const DualLine& line) const;
+    bool someLineTracedOut(const Frame& f, const LocalTriangle& t, double a0, double from,
+                           const std::vector<LinePolygon>& pieces) const;
 
     const Surface& m_surface;
+    bool m_traceWitnesses;
     int m_blocksY, m_blocksX;
     std::vector<Block> m_alongY, m_alongX;  // [line + 1][(cell + 1) / 16], cells -1 .. n-1
-    mutable std::atomic<uint64_t> m_tests{0}, m_blockers{0};
+    mutable std::atomic<uint64_t> m_tests{0}, m_witnessed{0}, m_blockers{0};
 };
 
 }  // namespace relief::safety

@@ -278,6 +278,41 @@ TEST(SafetyExterior, InvariantDetectsLongerDistances) {
     EXPECT_GT(bad, 0u);
 }
 
+// Tracing witness lines only finds sooner what the blocker subtraction finds: every answer is
+// the same with and without it.
+TEST(SafetyExterior, WitnessTracingChangesNoAnswer) {
+    size_t pairs = 0, limiting = 0;
+    for (const ExteriorCase& c : kSmallCases) {
+        auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
+        const ExteriorVisibility traced(*s), subtracted(*s, false);
+        for (double phi : {90.0, -30.0})
+            for (int cls = 0; cls < kClassCount; ++cls)
+                for (int j = 0; j < s->height(); ++j)
+                    for (int i = 0; i < s->width(); ++i) {
+                        const Frame f{cls};
+                        const SegmentHeights seg = segmentHeights(*s, f, i, j);
+                        std::array<LocalTriangle, 2> tris;
+                        for (int k = 0; k < 6; ++k)
+                            for (int bc = seg.b0 - 2 - k; bc <= seg.b0 + 1 + k; ++bc) {
+                                int ci, cj;
+                                f.worldCell(seg.a0 + k, bc, ci, cj);
+                                if (!cellTriangles(*s, f, ci, cj, tris)) continue;
+                                for (const LocalTriangle& t : tris) {
+                                    if (!isLimiting(seg, t, tanPhiMax(phi))) continue;
+                                    const bool a = traced.limiting(f, seg, t, tanPhiMax(phi));
+                                    ++pairs, limiting += a;
+                                    EXPECT_EQ(a, subtracted.limiting(f, seg, t, tanPhiMax(phi)))
+                                        << c.generator << " class " << cls << " texel " << i
+                                        << "," << j << " column " << k;
+                                }
+                            }
+                    }
+        EXPECT_GT(traced.witnessed(), 0u) << c.generator;
+    }
+    std::printf("[ safety   ] witness tracing: %zu pairs, %zu limiting, same answers\n", pairs,
+                limiting);
+}
+
 // ---- Maps ----
 
 TEST(SafetyExterior, MapEqualsDirectScanAndIsNeverShorter) {
