@@ -7,15 +7,20 @@ namespace relief::safety {
 
 namespace {
 
-// The line through primal points u and v (oriented +a), as l1·a + l2·b + l3·w = 0.
-struct PrimalLine {
-    double l1, l2, l3, norm;  // norm: |l1| + |l2| + |l3|, the rounding scale
-};
+// The line through primal points u and v (oriented +a).
 PrimalLine lineThrough(const PlanePoint& u, const PlanePoint& v) {
     const double l1 = u.b * v.w - u.w * v.b;
     const double l2 = u.w * v.a - u.a * v.w;
     const double l3 = u.a * v.b - u.b * v.a;
     return {l1, l2, l3, std::abs(l1) + std::abs(l2) + std::abs(l3)};
+}
+
+// Vertex k of a polygon: the line through the points of edges k and k + 1 (cached).
+const PrimalLine& vertexLine(const LinePolygon& lines, size_t k) { return lines[k].toNext; }
+
+void cacheVertices(LinePolygon& lines) {
+    for (size_t k = 0; k < lines.size(); ++k)
+        lines[k].toNext = lineThrough(lines[k].point, lines[(k + 1) % lines.size()].point);
 }
 
 // Where point p lies relative to line l: +1 above, −1 below, 0 on it, within rounding, or when
@@ -27,10 +32,6 @@ int sideOf(const PlanePoint& p, const PrimalLine& l) {
     return (value > 0.0) == (l.l2 > 0.0) ? 1 : -1;
 }
 
-// Relative to the line through u and v: one 3×3 determinant of primal coordinates.
-int sideOf(const PlanePoint& p, const PlanePoint& u, const PlanePoint& v) {
-    return sideOf(p, lineThrough(u, v));
-}
 
 // Does the blocker leave the piece whole? True when every line of the piece (its vertices: a
 // convex set of lines is the hull of them) passes strictly on the same side of both endpoints,
@@ -40,7 +41,7 @@ bool leavesWhole(const LinePolygon& piece, const BlockerSegment& blocker) {
     int common = 0;
     const size_t n = piece.size();
     for (size_t k = 0; k < n; ++k) {
-        const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % n].point);
+        const PrimalLine& l = vertexLine(piece, k);
         const int sp = sideOf(blocker.p, l);
         if (sp == 0 || sideOf(blocker.q, l) != sp || (common != 0 && sp != common)) return false;
         common = sp;
@@ -53,15 +54,16 @@ constexpr size_t kMaxPieces = 64;  // beyond: call T limiting (conservative, nev
 }  // namespace
 
 LinePolygon linesThroughSegment(double a0, double y0, double y1, double lo, double hi) {
-    return {{{a0, y0, 1.0}, -1}, {{1.0, hi, 0.0}, +1}, {{a0, y1, 1.0}, +1}, {{1.0, lo, 0.0}, -1}};
+    LinePolygon lines{
+        {{a0, y0, 1.0}, -1}, {{1.0, hi, 0.0}, +1}, {{a0, y1, 1.0}, +1}, {{1.0, lo, 0.0}, -1}};
+    cacheVertices(lines);
+    return lines;
 }
 
 bool clipLines(LinePolygon& lines, const LineHalfPlane& h) {
     const size_t n = lines.size();
     // Vertex k is the line through the points of edges k and k + 1.
-    auto inside = [&](size_t k) {
-        return sideOf(h.point, lines[k].point, lines[(k + 1) % n].point) * h.side >= 0;
-    };
+    auto inside = [&](size_t k) { return sideOf(h.point, vertexLine(lines, k)) * h.side >= 0; };
     uint64_t in = 0;
     size_t count = 0;
     for (size_t k = 0; k < n && k < 64; ++k)
@@ -81,6 +83,9 @@ bool clipLines(LinePolygon& lines, const LineHalfPlane& h) {
     out.reserve(run + 2);
     for (size_t k = 0; k <= run; ++k) out.push_back(lines[(start + k) % n]);
     out.push_back(h);
+    // Vertices between kept edges are kept; the two beside the new edge are new.
+    out[run].toNext = lineThrough(out[run].point, h.point);
+    out[run + 1].toNext = lineThrough(h.point, out[0].point);
     lines = std::move(out);
     return true;
 }
@@ -169,6 +174,24 @@ bool clipToBox(const LocalBox& box, PlanePoint& p, PlanePoint& q) {
     return true;
 }
 
+// Are the four corners of world cell (ci, cj) all above P_T or all below it (beyond the
+// tolerance)? Then neither triangle of the cell meets P_T and addBlocker would find nothing:
+// the same differences, without building the triangles.
+bool cellClearOf(const Surface& s, const Frame& f, const LocalTriangle& t, int ci, int cj,
+                 double tolerance) {
+    const CellCorners c = s.cellCorners(ci, cj);
+    const double z[4] = {c.z00, c.z10, c.z01, c.z11};
+    int above = 0, below = 0;
+    for (int k = 0; k < 4; ++k) {
+        double a, b;
+        f.local(double(ci + (k & 1)), double(cj + (k >> 1)), a, b);
+        const double gap = z[k] - planeAt(t, a, b);
+        above += gap > tolerance;
+        below += gap < -tolerance;
+    }
+    return above == 4 || below == 4;
+}
+
 // The segment S ∩ P_T on triangle `tri` (where its plane meets T's) inside the box, if any.
 void addBlocker(const LocalTriangle& t, const LocalTriangle& tri, double tolerance,
                 const LocalBox& box, std::vector<BlockerSegment>& out) {
@@ -205,7 +228,7 @@ bool someLineEscaped(const std::vector<LinePolygon>& pieces, const LocalTriangle
                      const LocalBox& box, double maxZ) {
     for (const LinePolygon& piece : pieces)
         for (size_t k = 0; k < piece.size(); ++k) {
-            const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % piece.size()].point);
+            const PrimalLine& l = vertexLine(piece, k);
             if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) continue;
             const double slope = -l.l1 / l.l2, b = -(l.l1 * a + l.l3) / l.l2;
             if (b < box.b0 || b > box.b1) return true;
@@ -219,7 +242,7 @@ bool pieceCentroid(const LinePolygon& piece, double a0, DualLine& out) {
     double m = 0.0, c = 0.0;
     int count = 0;
     for (size_t k = 0; k < piece.size(); ++k) {
-        const PrimalLine l = lineThrough(piece[k].point, piece[(k + 1) % piece.size()].point);
+        const PrimalLine& l = vertexLine(piece, k);
         if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) return false;
         m += -l.l1 / l.l2;
         c += -(l.l1 * a0 + l.l3) / l.l2;
@@ -318,6 +341,7 @@ bool ExteriorVisibility::columnBlockers(const Frame& f, const SegmentHeights& se
         }
         for (; bc <= blockEnd; ++bc) {
             f.worldCell(ac, bc, ci, cj);
+            if (cellClearOf(s, f, t, ci, cj, tolerance)) continue;
             if (!cellTriangles(s, f, ci, cj, tris)) continue;
             for (const LocalTriangle& tri : tris) addBlocker(t, tri, tolerance, box, out);
         }

@@ -46,11 +46,19 @@ struct PlanePoint {
     double a, b, w;
 };
 
+// The line through two primal points, as l1·a + l2·b + l3·w = 0; norm = |l1| + |l2| + |l3|.
+struct PrimalLine {
+    double l1 = 0.0, l2 = 0.0, l3 = 0.0, norm = 0.0;
+};
+
 // Oriented lines (direction +a) passing with `point` on one side: side +1 = the point is above
 // or on the line (b ≥ ℓ(a); for a direction (1, m): m ≥ the line's slope), −1 = below or on.
+// toNext: the polygon's vertex between this edge and the next (the line through both points),
+// kept up to date by linesThroughSegment and clipLines, since every blocker tests every vertex.
 struct LineHalfPlane {
     PlanePoint point;
     int side;
+    PrimalLine toNext{};
 };
 
 // A convex set of lines: its dual edges in cyclic order; consecutive edges meet at the line
