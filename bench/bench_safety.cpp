@@ -40,6 +40,8 @@ Precomputed safety shapes (safety-sd, safety-cc) against NA, LS, RC and Embree, 
   --ext-sizes LIST  exterior build sizes (default 256,512,1024; --quick: 64,128)
   --cone-ext-max N  largest size for the cone_ext build (default 512)
   --gain-size N  map size of the exterior rendering-gain table (default 512; --quick: 128)
+  --ext-map GEN  built-in generator of the exterior section (default fbm; e.g. peaks6, a smoother
+                 relief where exterior rays gain more)
   --earth FILE   also time the precomputation on this heightfield (e.g. the 10800x5400 SRTM)
   --out FILE     also write the Markdown report to FILE
   -h, --help     this text
@@ -55,6 +57,7 @@ struct Options {
     std::vector<int> extSizes = {256, 512, 1024};
     int coneExtMax = 512;
     int gainSize = 512;
+    std::string extMap = "fbm";
 };
 
 std::vector<int> parseList(const char* p) {
@@ -92,6 +95,13 @@ int parseOptions(int argc, char** argv, Options& o) {
             o.coneExtMax = std::atoi(argv[++k]);
         } else if (arg == "--gain-size" && value) {
             o.gainSize = std::atoi(argv[++k]);
+        } else if (arg == "--ext-map" && value) {
+            o.extMap = argv[++k];
+            if (!loadHeightfield(fmt::format("gen:{}:8x8:1", o.extMap)).ok()) {
+                std::fprintf(stderr, "bench_safety: error: unknown generator '%s'\n",
+                             o.extMap.c_str());
+                return 1;
+            }
         } else if (arg == "--earth" && value) {
             o.earth = argv[++k];
         } else if (arg == "--out" && value) {
@@ -109,12 +119,14 @@ int parseOptions(int argc, char** argv, Options& o) {
 
 double seconds(const std::function<void()>& fn) { return bestSeconds(1, fn); }
 
-std::shared_ptr<const Surface> fbmSurface(int size) {
-    auto hf = loadHeightfield(fmt::format("gen:fbm:{}x{}:1", size, size));
+std::shared_ptr<const Surface> generatedSurface(const std::string& generator, int size) {
+    auto hf = loadHeightfield(fmt::format("gen:{}:{}x{}:1", generator, size, size));
     RELIEF_CHECK(hf.ok());
     return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)),
                                            0.1f * float(size), EdgeMode::Clamp);
 }
+
+std::shared_ptr<const Surface> fbmSurface(int size) { return generatedSurface("fbm", size); }
 
 double meanRadius(const safety::DistanceMap& m) {
     double sum = 0;
@@ -322,7 +334,7 @@ std::string exteriorBuildTable(const Options& o, GainMaps& gain) {
     for (int n : o.extSizes) {
         std::fprintf(stderr, "bench_safety: exterior build %d²\n", n);
         std::fflush(stderr);
-        auto s = fbmSurface(n);
+        auto s = generatedSurface(o.extMap, n);
         safety::BuildOptions all, ext, extSlope;
         ext.exterior = extSlope.exterior = extSlope.exteriorSlope = true;
         const std::string loadBefore = loadAverage();
@@ -333,9 +345,9 @@ std::string exteriorBuildTable(const Options& o, GainMaps& gain) {
         const bool cone = n <= o.coneExtMax;
         const Clocked tCone =
             cone ? clocked([&] { ccExt = safety::buildConeMap(*s, sdExt, extSlope); }) : Clocked{-1, -1};
-        t += fmt::format("| fbm {}² | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {:.2f} | "
+        t += fmt::format("| {} {}² | {:.2f} | {:.1f} | {:.1f} | {:.1f} | {:.1f} | {:.2f} | {:.2f} | "
                          "{} / {} |\n",
-                         n, tAll.wall, tExt.wall, tExt.cpu, tCone.wall, tCone.cpu,
+                         o.extMap, n, tAll.wall, tExt.wall, tExt.cpu, tCone.wall, tCone.cpu,
                          meanRadius(sdAll), meanRadius(sdExt), loadBefore, loadAverage());
         if (n != o.gainSize) continue;
         gain.variants = {
@@ -353,7 +365,7 @@ std::string exteriorBuildTable(const Options& o, GainMaps& gain) {
 std::string exteriorGainTable(const Options& o, const GainMaps& gain) {
     if (gain.variants.empty()) return "(no gain table: --gain-size is not among --ext-sizes)\n";
     const int w = o.quick ? 320 : 1280, h = o.quick ? 256 : 1024;
-    auto s = fbmSurface(o.gainSize);
+    auto s = generatedSurface(o.extMap, o.gainSize);
     std::string t = "| elevation |";
     for (const auto& v : gain.variants) t += fmt::format(" {} ms | {} steps |", v.first, v.first);
     t += " wrong (ext) |\n|---|";
@@ -386,12 +398,12 @@ std::string exteriorGainTable(const Options& o, const GainMaps& gain) {
         }
         t += fmt::format(" {} |\n", wrong);
     }
-    return t + fmt::format("\n{}×{} primary rays, fbm {}², depth 0.1·N, clamp, orbit view azimuth "
+    return t + fmt::format("\n{}×{} primary rays, {} {}², depth 0.1·N, clamp, orbit view azimuth "
                            "30°, distance 0.6 diagonals (camera outside the box), fov 45°; ms = "
                            "wall time of all rays, best of {}; steps = mean per pixel; wrong = "
                            "pixels of the exterior maps differing from `exact` (hit/miss or "
                            "|Δt| > 0.5).\n",
-                           w, h, o.gainSize, o.repeats);
+                           w, h, o.extMap, o.gainSize, o.repeats);
 }
 
 int run(const Options& o) {

@@ -30,7 +30,12 @@
 // between s_τ and T: lines crossing S there are exactly the ones that make T limiting, so they
 // must not be removed); hence the cache R_T of §6.2.6 would be per (T, column of τ), and it is not
 // implemented: instead the search stops at the first escaped line (a witness) or when nothing is
-// left. Clamp edge mode only: with a tiling relief the box is infinite in x, y,
+// left. Witnesses are also looked for directly: after 0, 1, 3, 7, … columns the centroid line
+// of each piece is traced backward against S (limiting tests outnumber the others ~3:1).
+// Blockers that leave a piece whole are recognized from its cached vertex lines without a copy,
+// and cells with all four corners on one side of P_T are skipped unbuilt. Cost (two threads,
+// fbm): cyl_ext 36.7 s at 512², 299 s at 1024²; cone_ext's planes 242 s at 512². Clamp edge
+// mode only: with a tiling relief the box is infinite in x, y,
 // exterior rays come only from above and their backward blocker search is unbounded.
 #include <relief/techniques/safety_common/safety_maps.h>
 
