@@ -222,6 +222,14 @@ void addBlocker(const LocalTriangle& t, const LocalTriangle& tri, double toleran
     if (clipToBox(box, p, q)) out.push_back({p, q});
 }
 
+// The line l in slope–intercept form about abscissa a (b = c + m·(x − a)); false when l is
+// (nearly) vertical, i.e. not a line of the class.
+bool asDualLine(const PrimalLine& l, double a, DualLine& out) {
+    if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) return false;
+    out = {-l.l1 / l.l2, -(l.l1 * a + l.l3) / l.l2};
+    return true;
+}
+
 // Has some line of the pieces left for good, at abscissa `a` (all blockers in [a, a0) already
 // removed)? A vertex of a piece is one line (through two of its points); it has left when it is
 // outside the box across the axis there, or at or above every sample and not descending
@@ -230,27 +238,24 @@ bool someLineEscaped(const std::vector<LinePolygon>& pieces, const LocalTriangle
                      const LocalBox& box, double maxZ) {
     for (const LinePolygon& piece : pieces)
         for (size_t k = 0; k < piece.size(); ++k) {
-            const PrimalLine& l = vertexLine(piece, k);
-            if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) continue;
-            const double slope = -l.l1 / l.l2, b = -(l.l1 * a + l.l3) / l.l2;
-            if (b < box.b0 || b > box.b1) return true;
-            if (planeAt(t, a, b) >= maxZ && t.pa + t.pb * slope <= 0.0) return true;
+            DualLine line;
+            if (!asDualLine(vertexLine(piece, k), a, line)) continue;
+            if (line.c < box.b0 || line.c > box.b1) return true;
+            if (planeAt(t, a, line.c) >= maxZ && t.pa + t.pb * line.m <= 0.0) return true;
         }
     return false;
 }
 
 // The centroid of a piece's vertex lines in the dual plane: a line inside the piece (convex).
 bool pieceCentroid(const LinePolygon& piece, double a0, DualLine& out) {
+    if (piece.empty()) return false;
     double m = 0.0, c = 0.0;
-    int count = 0;
     for (size_t k = 0; k < piece.size(); ++k) {
-        const PrimalLine& l = vertexLine(piece, k);
-        if (std::abs(l.l2) <= 1e-12 * (std::abs(l.l1) + std::abs(l.l3))) return false;
-        m += -l.l1 / l.l2;
-        c += -(l.l1 * a0 + l.l3) / l.l2;
-        ++count;
+        DualLine vertex;
+        if (!asDualLine(vertexLine(piece, k), a0, vertex)) return false;
+        m += vertex.m, c += vertex.c;
     }
-    if (count == 0) return false;
+    const double count = double(piece.size());
     out = {m / count, c / count};
     return true;
 }

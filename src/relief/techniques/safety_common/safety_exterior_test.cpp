@@ -87,6 +87,28 @@ bool oracleLimiting(const Surface& s, const Frame& f, const SegmentHeights& seg,
     return false;
 }
 
+// Calls visit(f, seg, t, cls, i, j, k) for every (texel, triangle) pair of the class wedges,
+// texels every `texelStep`, columns 0 .. columns − 1, where T is limiting for all rays.
+template <class Visit>
+void forEachAllRayLimitingPair(const Surface& s, double tanPhi, int texelStep, int columns,
+                               Visit&& visit) {
+    for (int cls = 0; cls < kClassCount; ++cls)
+        for (int j = 0; j < s.height(); j += texelStep)
+            for (int i = 0; i < s.width(); i += texelStep) {
+                const Frame f{cls};
+                const SegmentHeights seg = segmentHeights(s, f, i, j);
+                std::array<LocalTriangle, 2> tris;
+                for (int k = 0; k < columns; ++k)
+                    for (int bc = seg.b0 - 2 - k; bc <= seg.b0 + 1 + k; ++bc) {
+                        int ci, cj;
+                        f.worldCell(seg.a0 + k, bc, ci, cj);
+                        if (!cellTriangles(s, f, ci, cj, tris)) continue;
+                        for (const LocalTriangle& t : tris)
+                            if (isLimiting(seg, t, tanPhi)) visit(f, seg, t, cls, i, j, k);
+                    }
+            }
+}
+
 TEST(SafetyExterior, LimitingTestAgreesWithSampledLines) {
     std::mt19937 rng(3);
     size_t pairs = 0, witnessed = 0, missed = 0, limitingNoWitness = 0, allRayOnly = 0;
@@ -95,34 +117,22 @@ TEST(SafetyExterior, LimitingTestAgreesWithSampledLines) {
         const ExteriorVisibility visibility(*s);
         for (double phi : {90.0, -30.0}) {
             const double tanPhi = tanPhiMax(phi);
-            for (int cls = 0; cls < kClassCount; ++cls)
-                for (int j = 0; j < s->height(); j += 2)
-                    for (int i = 0; i < s->width(); i += 2) {
-                        const Frame f{cls};
-                        const SegmentHeights seg = segmentHeights(*s, f, i, j);
-                        std::array<LocalTriangle, 2> tris;
-                        for (int k = 0; k < 5; ++k)
-                            for (int bc = seg.b0 - 2 - k; bc <= seg.b0 + 1 + k; ++bc) {
-                                int ci, cj;
-                                f.worldCell(seg.a0 + k, bc, ci, cj);
-                                if (!cellTriangles(*s, f, ci, cj, tris)) continue;
-                                for (const LocalTriangle& t : tris) {
-                                    if (!isLimiting(seg, t, tanPhi)) continue;
-                                    ++pairs;
-                                    const bool exact = visibility.limiting(f, seg, t, tanPhi);
-                                    const bool seen = oracleLimiting(*s, f, seg, t, tanPhi, rng, 300);
-                                    witnessed += seen;
-                                    if (seen && !exact) {
-                                        ++missed;
-                                        ADD_FAILURE() << c.generator << " class " << cls << " texel "
-                                                      << i << "," << j << " column " << k
-                                                      << ": a sampled exterior limit line exists";
-                                    }
-                                    limitingNoWitness += exact && !seen;
-                                    allRayOnly += !exact;
-                                }
-                            }
-                    }
+            forEachAllRayLimitingPair(*s, tanPhi, 2, 5, [&](const Frame& f,
+                                                            const SegmentHeights& seg,
+                                                            const LocalTriangle& t, int cls,
+                                                            int i, int j, int k) {
+                ++pairs;
+                const bool exact = visibility.limiting(f, seg, t, tanPhi);
+                const bool seen = oracleLimiting(*s, f, seg, t, tanPhi, rng, 300);
+                witnessed += seen;
+                if (seen && !exact) {
+                    ++missed;
+                    ADD_FAILURE() << c.generator << " class " << cls << " texel " << i << "," << j
+                                  << " column " << k << ": a sampled exterior limit line exists";
+                }
+                limitingNoWitness += exact && !seen;
+                allRayOnly += !exact;
+            });
         }
     }
     std::printf("[ safety   ] exterior limiting test: %zu limiting (all-ray) pairs, %zu with a sampled "
@@ -285,28 +295,19 @@ TEST(SafetyExterior, WitnessTracingChangesNoAnswer) {
     for (const ExteriorCase& c : kSmallCases) {
         auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
         const ExteriorVisibility traced(*s), subtracted(*s, false);
-        for (double phi : {90.0, -30.0})
-            for (int cls = 0; cls < kClassCount; ++cls)
-                for (int j = 0; j < s->height(); ++j)
-                    for (int i = 0; i < s->width(); ++i) {
-                        const Frame f{cls};
-                        const SegmentHeights seg = segmentHeights(*s, f, i, j);
-                        std::array<LocalTriangle, 2> tris;
-                        for (int k = 0; k < 6; ++k)
-                            for (int bc = seg.b0 - 2 - k; bc <= seg.b0 + 1 + k; ++bc) {
-                                int ci, cj;
-                                f.worldCell(seg.a0 + k, bc, ci, cj);
-                                if (!cellTriangles(*s, f, ci, cj, tris)) continue;
-                                for (const LocalTriangle& t : tris) {
-                                    if (!isLimiting(seg, t, tanPhiMax(phi))) continue;
-                                    const bool a = traced.limiting(f, seg, t, tanPhiMax(phi));
-                                    ++pairs, limiting += a;
-                                    EXPECT_EQ(a, subtracted.limiting(f, seg, t, tanPhiMax(phi)))
-                                        << c.generator << " class " << cls << " texel " << i
-                                        << "," << j << " column " << k;
-                                }
-                            }
-                    }
+        for (double phi : {90.0, -30.0}) {
+            const double tanPhi = tanPhiMax(phi);
+            forEachAllRayLimitingPair(*s, tanPhi, 1, 6, [&](const Frame& f,
+                                                            const SegmentHeights& seg,
+                                                            const LocalTriangle& t, int cls,
+                                                            int i, int j, int k) {
+                const bool a = traced.limiting(f, seg, t, tanPhi);
+                ++pairs, limiting += a;
+                EXPECT_EQ(a, subtracted.limiting(f, seg, t, tanPhi))
+                    << c.generator << " class " << cls << " texel " << i << "," << j
+                    << " column " << k;
+            });
+        }
         EXPECT_GT(traced.witnessed(), 0u) << c.generator;
     }
     std::printf("[ safety   ] witness tracing: %zu pairs, %zu limiting, same answers\n", pairs,
