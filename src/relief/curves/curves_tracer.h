@@ -35,7 +35,7 @@ private:
 
 namespace relief {
 inline constexpr ParamSpec kCurvesParams[] = {
-    {"max-steps", 200, 1, 1e6, true, "evaluations per eye ray"},
+    {"max-steps", 200, 1, 1e6, true, "evaluations per eye ray", ParamRole::IterationCap},
     {"epsilon", 0.05, 1e-6, 10, false, "convergence threshold, a fraction of the eye-ray spacing"},
     {"angle-step", 2e-3, 1e-5, 0.1, false, "radians between the eye rays walked to reach a ray"},
 };

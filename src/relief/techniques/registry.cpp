@@ -14,18 +14,39 @@
 #include <relief/techniques/safety_common/safety_params.h>
 #include <relief/techniques/safety_sd/safety_sd.h>
 
+#include <relief/core/check.h>
+
 #include <cmath>
 
 namespace relief {
 
 namespace {
 
+// Forms whose contract differs from the row's, or that a paper's claim is judged with.
+constexpr VariantSpec kQuadtreeVariants[] = {
+    {"paper-walk", "ascend=0", Contract::Exact, "the paper's walk: stay at the level after a jump"},
+    {"paper-surface", "box-surface=1", Contract::Approximate, "stops at the first level-0 node reached"},
+};
+constexpr VariantSpec kConeVariants[] = {
+    {"safe", "variant=0", Contract::Conservative, "footprint-frustum cones, exact cell finish"},
+    {"faithful", "variant=1", Contract::Approximate, "Dummer's cones (texel centres): can step past a hit"},
+};
+constexpr VariantSpec kRelaxedConeVariants[] = {
+    {"safe", "variant=0", Contract::Approximate, "strict footprint cones, then binary refinement"},
+    {"faithful", "variant=1", Contract::Approximate, "Policarpo & Oliveira's relaxed cones"},
+};
+constexpr VariantSpec kSafetyVariants[] = {
+    {"view-dependent", "view-dependent=1", Contract::Approximate, "S linear between test positions (§7)"},
+    {"positive-distance", "positive-distance=1", Contract::Approximate, "distances clamped to >= 1 (§7)"},
+    {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
+};
+
 // clang-format off
 const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
-     .glsl = "exact/exact.glsl"},
+     .glsl = "exact/exact.glsl", .reference = true},
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
@@ -37,7 +58,7 @@ const TechniqueInfo kTechniques[] = {
     {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
-     .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl"},
+     .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl", .variants = kQuadtreeVariants},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
@@ -50,12 +71,12 @@ const TechniqueInfo kTechniques[] = {
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
-     .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl"},
+     .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl", .variants = kConeVariants},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
      .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps,
-     .glsl = "relaxed_cone/relaxed_cone.glsl"},
+     .glsl = "relaxed_cone/relaxed_cone.glsl", .variants = kRelaxedConeVariants},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
@@ -64,12 +85,12 @@ const TechniqueInfo kTechniques[] = {
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
      .buildMaps = buildSafetySdMaps, .viewWarning = safety::viewWarning,
-     .glsl = "safety_sd/safety_sd.glsl"},
+     .glsl = "safety_sd/safety_sd.glsl", .variants = kSafetyVariants},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
      .buildMaps = buildSafetyCcMaps, .viewWarning = safety::viewWarning,
-     .glsl = "safety_cc/safety_cc.glsl"},
+     .glsl = "safety_cc/safety_cc.glsl", .variants = kSafetyVariants},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
@@ -79,6 +100,13 @@ const TechniqueInfo kTechniques[] = {
 }  // namespace
 
 std::span<const TechniqueInfo> techniques() { return kTechniques; }
+
+const TechniqueInfo& referenceTechnique() {
+    for (const TechniqueInfo& info : kTechniques)
+        if (info.reference) return info;
+    RELIEF_CHECK(false);  // RegistryTest.ExactlyOneReference
+    return kTechniques[0];
+}
 
 const TechniqueInfo* findTechnique(std::string_view name) {
     for (const TechniqueInfo& info : kTechniques)

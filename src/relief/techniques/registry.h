@@ -11,6 +11,8 @@ namespace relief {
 
 std::span<const TechniqueInfo> techniques();
 const TechniqueInfo* findTechnique(std::string_view name);
+// The row every other one is judged against (DESIGN §3: `exact`).
+const TechniqueInfo& referenceTechnique();
 std::string techniqueNames(std::string_view separator = ", ");
 
 // Defaults for every parameter of `info`, overridden by `overrides` (name → value). Unknown names

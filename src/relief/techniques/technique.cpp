@@ -3,6 +3,9 @@
 #include <relief/core/check.h>
 #include <relief/core/parallel.h>
 
+#include <algorithm>
+#include <charconv>
+
 namespace relief {
 
 std::string_view toString(Contract contract) {
@@ -29,6 +32,71 @@ double ParamValues::get(std::string_view name) const {
     auto it = m_values.find(name);
     RELIEF_CHECK(it != m_values.end());
     return it->second;
+}
+
+}  // namespace relief
+
+namespace relief {
+
+std::string_view toString(ParamRole role) {
+    switch (role) {
+        case ParamRole::Tuning: return "tuning";
+        case ParamRole::IterationCap: return "iteration cap";
+        case ParamRole::Variant: return "variant";
+        case ParamRole::Encoding: return "encoding";
+        case ParamRole::MapShape: return "map shape";
+        case ParamRole::PhiMax: return "phi-max";
+        case ParamRole::Visibility: return "visibility";
+    }
+    return "?";
+}
+
+const ParamSpec* paramWithRole(const TechniqueInfo& info, ParamRole role) {
+    for (const ParamSpec& spec : info.params)
+        if (spec.role == role) return &spec;
+    return nullptr;
+}
+
+Result<std::vector<std::pair<std::string, double>>> parseParamList(std::string_view text) {
+    std::vector<std::pair<std::string, double>> values;
+    if (text.empty()) return values;
+    for (size_t start = 0; start <= text.size();) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string_view item = text.substr(start, comma - start);
+        start = comma + 1;
+        const size_t eq = item.find('=');
+        double value = 0;
+        const char* end = item.data() + item.size();
+        std::from_chars_result parsed{item.data(), std::errc::invalid_argument};
+        if (eq != std::string_view::npos && eq > 0)
+            parsed = std::from_chars(item.data() + eq + 1, end, value);
+        if (parsed.ec != std::errc() || parsed.ptr != end)
+            return makeError(ErrorKind::BadArgument, "parameter '{}' in '{}': expected NAME=NUMBER",
+                             item, text);
+        values.emplace_back(std::string(item.substr(0, eq)), value);
+    }
+    return values;
+}
+
+Contract contractOf(const TechniqueInfo& info, const ParamValues& params) {
+    Contract contract = info.contract;
+    for (const VariantSpec& variant : info.variants) {
+        const auto wanted = parseParamList(variant.params);
+        RELIEF_CHECK(wanted.ok());  // rows are checked by RegistryTest
+        bool matches = true;
+        for (const auto& [name, value] : *wanted)
+            matches = matches && params.has(name) && params.get(name) == value;
+        if (matches) {
+            contract = variant.contract;
+            break;
+        }
+    }
+    // An exact walk stopped after N iterations (where 0 means no cap) promises nothing.
+    const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap);
+    if (contract == Contract::Exact && cap && cap->defaultValue == 0 && params.has(cap->name) &&
+        params.get(cap->name) > 0)
+        return Contract::Approximate;
+    return contract;
 }
 
 }  // namespace relief

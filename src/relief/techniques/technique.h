@@ -12,6 +12,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace relief {
 
@@ -19,13 +21,75 @@ namespace relief {
 enum class Contract { Exact, Conservative, Approximate };
 std::string_view toString(Contract contract);
 
+// What a parameter does, so that consumers (CLI options, bench, GL, exports) act on roles and
+// never on parameter names.
+enum class ParamRole : uint8_t {
+    Tuning,        // changes the tracer's work only (e.g. binary refinement steps)
+    IterationCap,  // the iteration cap of DESIGN §3 (`--max-steps`); never changes the maps
+    Variant,       // picks a form of the method; TechniqueInfo::variants gives its contract
+    Encoding,      // how the maps are stored (bits per value, sqrt coding)
+    MapShape,      // a builder option: changes what the maps hold
+    PhiMax,        // viewing-angle restriction in degrees (`--phi-max`)
+    Visibility,    // 0 = maps for all rays, 1 = exterior rays only (`--visibility`)
+};
+std::string_view toString(ParamRole role);
+
 struct ParamSpec {
-    std::string_view name;  // kebab-case; "max-steps" is the iteration cap (DESIGN §3)
+    std::string_view name;  // kebab-case
     double defaultValue;
     double minValue;
     double maxValue;
     bool integer;
     std::string_view help;
+    ParamRole role = ParamRole::Tuning;
+};
+
+// A named form of a technique: the parameter values that select it ("variant=1", several
+// comma-separated) and the contract that form keeps. Parameters not named keep any value.
+struct VariantSpec {
+    std::string_view label;   // e.g. "faithful"
+    std::string_view params;  // NAME=VALUE[,NAME=VALUE...]
+    Contract contract;
+    std::string_view summary;
+};
+
+// A parameter set that takes the tracer down another path (an encoding, a policy, a variant):
+// the GL differential test and the contract harness run each one.
+struct PathCase {
+    std::string_view params;  // NAME=VALUE[,NAME=VALUE...]; empty = the defaults
+    bool clampOnly = false;   // only meaningful in clamp mode (e.g. exterior rays)
+};
+
+// A constant the technique's GLSL reads, defined once in C++ (emitted as `const int/float`).
+struct GlslConstant {
+    std::string_view name;
+    double value;
+    bool integer;
+};
+
+// A bench study a row contributes (a paper's experiment): `relief bench --preset NAME`.
+enum class StudyKind : uint8_t {
+    Views,   // techniques × heightfields × views × caps, against the reference and the peers
+    Builds,  // map build time (wall and process CPU) and size per technique and map size
+    Scaling, // steps per ray (mean, p99) against map size, every hit checked by the reference
+};
+struct PaperRatioSpec {
+    std::string_view what, paper;
+    std::string_view numeratorTechnique, numeratorMap, denominatorTechnique, denominatorMap;
+    std::string_view backend = "cpu";
+};
+struct StudySpec {
+    std::string_view name, description;
+    StudyKind kind = StudyKind::Views;
+    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths
+    std::span<const std::string_view> techniques;  // NAME or NAME:PARAM=V[:PARAM=V]
+    std::span<const float> elevations;             // empty = the standard elevations
+    std::span<const int> caps;                     // iteration caps, for rows that have one
+    std::span<const int> sizes;                    // map sizes N (N×N) for Builds and Scaling
+    int width = 640, height = 512;                 // primary rays per view
+    float depthRatio = 0.1f;
+    std::string_view paperNotes;
+    std::span<const PaperRatioSpec> paperRatios;
 };
 
 // Parameter values by name, complete (defaults filled in) once validated by the registry.
@@ -84,7 +148,7 @@ struct TechniqueInfo {
     std::string_view name;
     std::string_view paper;    // citation of the method
     std::string_view summary;  // one line for --help and the report
-    Contract contract;
+    Contract contract;         // of the defaults; see variants and contractOf()
     std::span<const ParamSpec> params;
     // Builds whatever maps the technique needs (unless input.maps has them) and its tracer.
     Result<std::unique_ptr<Tracer>> (*create)(const TechniqueInput& input);
@@ -96,6 +160,24 @@ struct TechniqueInfo {
     // Path of its GLSL tracer relative to src/relief/techniques (e.g. "exact/exact.glsl"); empty
     // when it has none.
     std::string_view glsl = {};
+    // Constants its GLSL reads (from the C++ headers that define them).
+    std::span<const GlslConstant> glslConstants = {};
+    // Named forms whose contract differs from the row's (or that a paper's claim is judged with).
+    std::span<const VariantSpec> variants = {};
+    // Parameter sets that take the tracer down other paths (GL differential test).
+    std::span<const PathCase> pathCases = {};
+    // The paper's experiments, as bench presets.
+    std::span<const StudySpec> studies = {};
+    // True for the reference every other row is judged against (exactly one row).
+    bool reference = false;
 };
+
+// The parameter of `info` with this role (the first), or null.
+const ParamSpec* paramWithRole(const TechniqueInfo& info, ParamRole role);
+// "NAME=VALUE[,NAME=VALUE...]" as overrides; an error names the text.
+Result<std::vector<std::pair<std::string, double>>> parseParamList(std::string_view text);
+// The contract these (resolved) parameters keep: the first variant whose parameters they match,
+// else the row's; an exact row with its iteration cap set (where 0 means none) is approximate.
+Contract contractOf(const TechniqueInfo& info, const ParamValues& params);
 
 }  // namespace relief

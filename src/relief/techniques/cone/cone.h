@@ -87,10 +87,14 @@ inline Hit ConeTracer::trace(const Ray& ray) const {
 
 inline constexpr ParamSpec kConeParams[] = {
     {"max-steps", 4096, 1, 1e9, true,
-     "iteration cap (cone steps + exact cell tests); the default lets grazing rays converge"},
-    {"variant", 0, 0, 1, true, "0 = safe (footprint frustum, conservative), 1 = faithful (Dummer)"},
-    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)"},
-    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)"},
+     "iteration cap (cone steps + exact cell tests); the default lets grazing rays converge",
+     ParamRole::IterationCap},
+    {"variant", 0, 0, 1, true, "0 = safe (footprint frustum, conservative), 1 = faithful (Dummer)",
+     ParamRole::Variant},
+    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)",
+     ParamRole::Encoding},
+    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)",
+     ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input);

@@ -74,7 +74,8 @@ inline Hit ExactTracer::trace(const Ray& ray) const {
 
 namespace relief {
 inline constexpr ParamSpec kExactParams[] = {
-    {"max-steps", 0, 0, 1e9, true, "cell cap (0 = none; the reference never stops early)"},
+    {"max-steps", 0, 0, 1e9, true, "cell cap (0 = none; the reference never stops early)",
+     ParamRole::IterationCap},
 };
 Result<std::unique_ptr<Tracer>> createExact(const TechniqueInput& input);
 }  // namespace relief

@@ -40,7 +40,8 @@ private:
 };
 
 inline constexpr ParamSpec kMaxmipParams[] = {
-    {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate"},
+    {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate",
+     ParamRole::IterationCap},
 };
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input);
 Result<TechniqueMaps> buildMaxmipMaps(const TechniqueInput& input);  // maxmip_maps.cpp

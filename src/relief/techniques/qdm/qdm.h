@@ -142,13 +142,17 @@ inline Hit QdmTracer::trace(const Ray& ray) const {
 
 inline constexpr ParamSpec kQdmParams[] = {
     {"max-steps", 4096, 1, 1e9, true,
-     "iteration cap (quadric steps + exact cell tests); the default lets grazing rays converge"},
+     "iteration cap (quadric steps + exact cell tests); the default lets grazing rays converge",
+     ParamRole::IterationCap},
     {"height-ratio", 0.2, 0.0, 1.0, false,
-     "cone part height limit as a fraction of the highest point of S (paper: 0.2 best)"},
+     "cone part height limit as a fraction of the highest point of S (paper: 0.2 best)",
+     ParamRole::MapShape},
     {"max-distance", 0, 0, 1e6, false,
-     "horizontal reach of the parabola search in texels; 0 = unlimited (whole map)"},
+     "horizontal reach of the parabola search in texels; 0 = unlimited (whole map)",
+     ParamRole::MapShape},
     {"convex-bound", 1, 0, 1, true,
-     "1 = fit the parabola to the upper convex bound's vertices (paper §4.1), 0 = all points"},
+     "1 = fit the parabola to the upper convex bound's vertices (paper §4.1), 0 = all points",
+     ParamRole::MapShape},
 };
 Result<std::unique_ptr<Tracer>> createQdm(const TechniqueInput& input);
 Result<TechniqueMaps> buildQdmMaps(const TechniqueInput& input);

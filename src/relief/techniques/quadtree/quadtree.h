@@ -58,11 +58,14 @@ private:
 
 inline constexpr ParamSpec kQuadtreeParams[] = {
     {"max-steps", 0, 0, 1e9, true,
-     "iteration cap (0 = none, exact); N > 0: the paper's fixed loop, approximate"},
+     "iteration cap (0 = none, exact); N > 0: the paper's fixed loop, approximate",
+     ParamRole::IterationCap},
     {"ascend", 1, 0, 1, true,
-     "after a jump: 0 = stay at the level (the paper), 1 = up one level on entering a new parent"},
+     "after a jump: 0 = stay at the level (the paper), 1 = up one level on entering a new parent",
+     ParamRole::Variant},
     {"box-surface", 0, 0, 1, true,
-     "1 = the paper's surface: stop at the first level-0 node reached (cell boxes; approximate)"},
+     "1 = the paper's surface: stop at the first level-0 node reached (cell boxes; approximate)",
+     ParamRole::Variant},
 };
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input);
 Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input);  // quadtree_maps.cpp

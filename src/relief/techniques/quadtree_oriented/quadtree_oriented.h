@@ -107,7 +107,8 @@ private:
 };
 
 inline constexpr ParamSpec kQuadtreeOrientedParams[] = {
-    {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate"},
+    {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate",
+     ParamRole::IterationCap},
 };
 Result<std::unique_ptr<Tracer>> createQuadtreeOriented(const TechniqueInput& input);
 // Both pyramids as baked maps ("level<L>" and "oriented<L>"; quadtree_oriented_maps.cpp), and

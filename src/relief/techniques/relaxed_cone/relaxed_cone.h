@@ -105,12 +105,16 @@ inline Hit RelaxedConeTracer::refine(const Ray& ray, float lo, float hi, float t
 }
 
 inline constexpr ParamSpec kRelaxedConeParams[] = {
-    {"max-steps", 15, 1, 1e9, true, "relaxed cone steps (GPU Gems 3 listing: 15)"},
+    {"max-steps", 15, 1, 1e9, true, "relaxed cone steps (GPU Gems 3 listing: 15)",
+     ParamRole::IterationCap},
     {"binary-steps", 8, 0, 64, true, "binary refinement steps"},
     {"variant", 0, 0, 1, true,
-     "0 = safe (strict footprint cones: never past the first hit), 1 = faithful (top rays)"},
-    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)"},
-    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)"},
+     "0 = safe (strict footprint cones: never past the first hit), 1 = faithful (top rays)",
+     ParamRole::Variant},
+    {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)",
+     ParamRole::Encoding},
+    {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)",
+     ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createRelaxedCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildRelaxedConeMaps(const TechniqueInput& input);

@@ -8,27 +8,31 @@ namespace relief::safety {
 
 namespace param {
 inline constexpr ParamSpec kMaxSteps{"max-steps", 0, 0, 1e9, true,
-                                     "iteration cap (0 = none, exact); N > 0 is approximate"};
+                                     "iteration cap (0 = none, exact); N > 0 is approximate",
+                                     ParamRole::IterationCap};
 inline constexpr ParamSpec kPhiMax{
     "phi-max", 90, -89, 90, false,
     "viewing-angle restriction (deg, §6.2.5): maps serve rays whose elevation angle is below "
-    "it (the paper uses -45); other rays take the exact walk; 90 = none"};
+    "it (the paper uses -45); other rays take the exact walk; 90 = none",
+    ParamRole::PhiMax};
 inline constexpr ParamSpec kIsotropic{"isotropic", 0, 0, 1, true,
-                                      "1 = one shape for the four ray classes (their minimum)"};
+                                      "1 = one shape for the four ray classes (their minimum)",
+                                      ParamRole::MapShape};
 inline constexpr ParamSpec kViewDependent{
     "view-dependent", 0, 0, 1, true,
-    "1 = S linear along the ray between test positions (§7; approximate)"};
+    "1 = S linear along the ray between test positions (§7; approximate)", ParamRole::Variant};
 inline constexpr ParamSpec kPositiveDistance{
     "positive-distance", 0, 0, 1, true,
-    "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)"};
+    "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)", ParamRole::Variant};
 inline constexpr ParamSpec kExterior{
     "exterior", 0, 0, 1, true,
     "1 = maps for exterior rays only (§6.2, viewpoint outside the box; clamp mode): longer "
-    "distances; rays starting inside the box take the exact walk (results stay exact)"};
+    "distances; rays starting inside the box take the exact walk (results stay exact)",
+    ParamRole::Visibility};
 inline constexpr ParamSpec kExteriorSlope{
     "exterior-slope", 0, 0, 1, true,
     "1 = cone slope over exterior-limiting triangles only (cone_ext, slow build; needs "
-    "exterior=1); 0 = N-buffer slope over all vertices (cone_all)"};
+    "exterior=1); 0 = N-buffer slope over all vertices (cone_all)", ParamRole::MapShape};
 }  // namespace param
 
 inline constexpr ParamSpec kSafetyParams[] = {

@@ -1,0 +1,81 @@
+// Every registry row is complete and self-consistent: what consumers read from a row (roles,
+// variants and their contracts, path cases, studies) must name real parameters and values.
+#include <relief/techniques/registry.h>
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+namespace relief {
+namespace {
+
+void expectValidParamList(const TechniqueInfo& info, std::string_view text, std::string_view what) {
+    auto list = parseParamList(text);
+    ASSERT_TRUE(list) << info.name << " " << what << ": " << list.error().message;
+    auto resolved = resolveParams(info, *list);
+    EXPECT_TRUE(resolved) << info.name << " " << what << ": " << resolved.error().message;
+}
+
+TEST(RegistryTest, ExactlyOneReference) {
+    int count = 0;
+    for (const TechniqueInfo& info : techniques()) count += info.reference;
+    EXPECT_EQ(count, 1);
+    EXPECT_EQ(referenceTechnique().contract, Contract::Exact);
+}
+
+TEST(RegistryTest, RowsAreComplete) {
+    std::set<std::string_view> names;
+    for (const TechniqueInfo& info : techniques()) {
+        EXPECT_TRUE(names.insert(info.name).second) << "duplicate row " << info.name;
+        EXPECT_FALSE(info.paper.empty()) << info.name;
+        EXPECT_FALSE(info.summary.empty()) << info.name;
+        EXPECT_NE(info.create, nullptr) << info.name;
+        int caps = 0;
+        std::set<std::string_view> params;
+        for (const ParamSpec& p : info.params) {
+            EXPECT_TRUE(params.insert(p.name).second) << info.name << ": duplicate " << p.name;
+            EXPECT_LE(p.minValue, p.defaultValue) << info.name << " " << p.name;
+            EXPECT_LE(p.defaultValue, p.maxValue) << info.name << " " << p.name;
+            EXPECT_FALSE(p.help.empty()) << info.name << " " << p.name;
+            caps += p.role == ParamRole::IterationCap;
+        }
+        EXPECT_LE(caps, 1) << info.name << " has more than one iteration cap";
+        for (const VariantSpec& v : info.variants) {
+            EXPECT_FALSE(v.label.empty()) << info.name;
+            expectValidParamList(info, v.params, v.label);
+        }
+        for (const PathCase& c : info.pathCases) expectValidParamList(info, c.params, "path case");
+        for (const GlslConstant& c : info.glslConstants) {
+            EXPECT_EQ(c.name.substr(0, 1), "k") << info.name << ": " << c.name;
+            if (c.integer) EXPECT_EQ(c.value, double(int64_t(c.value))) << c.name;
+        }
+    }
+}
+
+TEST(RegistryTest, ContractPerVariant) {
+    const TechniqueInfo& cone = *findTechnique("cone");
+    EXPECT_EQ(contractOf(cone, *resolveParams(cone, {})), Contract::Conservative);
+    EXPECT_EQ(contractOf(cone, *resolveParams(cone, {{"variant", 1}})), Contract::Approximate);
+    const TechniqueInfo& quadtree = *findTechnique("quadtree");
+    EXPECT_EQ(contractOf(quadtree, *resolveParams(quadtree, {})), Contract::Exact);
+    EXPECT_EQ(contractOf(quadtree, *resolveParams(quadtree, {{"box-surface", 1}})),
+              Contract::Approximate);
+    EXPECT_EQ(contractOf(quadtree, *resolveParams(quadtree, {{"max-steps", 8}})),
+              Contract::Approximate);
+    const TechniqueInfo& exact = referenceTechnique();
+    EXPECT_EQ(contractOf(exact, *resolveParams(exact, {})), Contract::Exact);
+}
+
+TEST(RegistryTest, ParamListParsing) {
+    auto list = parseParamList("variant=1,bits=16");
+    ASSERT_TRUE(list);
+    ASSERT_EQ(list->size(), 2u);
+    EXPECT_EQ((*list)[1].first, "bits");
+    EXPECT_EQ((*list)[1].second, 16.0);
+    EXPECT_TRUE(parseParamList("")->empty());
+    for (const char* bad : {"variant", "=1", "variant=x", "variant=1,", "a=1,,b=2"})
+        EXPECT_FALSE(parseParamList(bad)) << bad;
+}
+
+}  // namespace
+}  // namespace relief
