@@ -114,11 +114,6 @@ Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const Tec
     return overrides;
 }
 
-MapSource mapSourceOf(const Surface& surface) {
-    return {surface.heightfield().contentHash(), surface.width(), surface.height(),
-            std::string(toString(surface.edge())), surface.depth()};
-}
-
 namespace {
 // Loaded once per process: render -t all asks for the same file once per technique.
 Result<std::shared_ptr<const MapFile>> loadMaps(const std::string& path, const Surface& surface) {
@@ -137,27 +132,20 @@ Result<std::shared_ptr<const MapFile>> loadMaps(const std::string& path, const S
 
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
                                            std::shared_ptr<const Surface> surface) {
-    const TechniqueInfo* info = findTechnique(o.name);
-    if (!info)
-        return makeError(ErrorKind::BadArgument, "unknown technique '{}' (known: {})", o.name,
-                         techniqueNames());
+    auto info = lookupTechnique(o.name);
+    if (!info) return info.error();
     auto overrides = parameterOverrides(o);
     if (!overrides) return overrides.error();
-    auto params = resolveParams(*info, *overrides);
-    if (!params) return params.error();
-    TechniqueInput input{surface, std::move(*params), nullptr};
     std::shared_ptr<const MapFile> maps;
-    if (!o.mapsPath.empty() && info->buildMaps) {
+    if (!o.mapsPath.empty() && (*info)->buildMaps) {
         auto loaded = loadMaps(o.mapsPath, *surface);
         if (!loaded) return loaded.error();
-        maps = *loaded;
-        input.maps = maps->find(std::string(info->name));
-        if (!input.maps)
-            return makeError(ErrorKind::InvalidInput, "{}: holds no maps for '{}'; bake them with "
-                             "relief bake --maps {}", o.mapsPath, info->name, info->name);
+        maps = *loaded;  // the cache in loadMaps outlives every tracer
     }
-    if (o.backend == "gl") return createGlBackendTracer(*info, input);
-    return info->create(input);  // the map cache above outlives every tracer
+    auto input = techniqueInput(**info, surface, *overrides, maps.get(), o.mapsPath);
+    if (!input) return input.error();
+    if (o.backend == "gl") return createGlBackendTracer(**info, *input);
+    return (*info)->create(*input);
 }
 
 int report(const Error& error) {

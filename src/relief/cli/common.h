@@ -55,7 +55,6 @@ Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const Tec
 // The technique's tracer, with its maps from --maps FILE when given (checked against the surface).
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
                                            std::shared_ptr<const Surface> surface);
-MapSource mapSourceOf(const Surface& surface);
 // The GLSL tracer of a technique (cli/gl_backend.cpp).
 Result<std::unique_ptr<Tracer>> createGlBackendTracer(const TechniqueInfo& info,
                                                       const TechniqueInput& input);

@@ -146,16 +146,37 @@ Result<ParamValues> resolveParams(const TechniqueInfo& info,
     return values;
 }
 
+Result<const TechniqueInfo*> lookupTechnique(std::string_view name) {
+    if (const TechniqueInfo* info = findTechnique(name)) return info;
+    return makeError(ErrorKind::BadArgument, "unknown technique '{}' (known: {})", name,
+                     techniqueNames());
+}
+
+Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
+                                      std::shared_ptr<const Surface> surface,
+                                      const std::vector<std::pair<std::string, double>>& overrides,
+                                      const MapFile* maps, std::string_view mapsPath) {
+    auto params = resolveParams(info, overrides);
+    if (!params) return params.error();
+    TechniqueInput input{std::move(surface), std::move(*params), nullptr};
+    if (maps && info.buildMaps) {
+        input.maps = maps->find(std::string(info.name));
+        if (!input.maps)
+            return makeError(ErrorKind::InvalidInput, "{}: holds no maps for '{}'; bake them with "
+                             "relief bake --maps {}", mapsPath, info.name, info.name);
+    }
+    return input;
+}
+
 Result<std::unique_ptr<Tracer>> createTracer(
     std::string_view name, std::shared_ptr<const Surface> surface,
-    const std::vector<std::pair<std::string, double>>& overrides) {
-    const TechniqueInfo* info = findTechnique(name);
-    if (!info)
-        return makeError(ErrorKind::BadArgument, "unknown technique '{}' (known: {})", name,
-                         techniqueNames());
-    auto params = resolveParams(*info, overrides);
-    if (!params) return params.error();
-    return info->create(TechniqueInput{std::move(surface), std::move(*params)});
+    const std::vector<std::pair<std::string, double>>& overrides, const MapFile* maps,
+    std::string_view mapsPath) {
+    auto info = lookupTechnique(name);
+    if (!info) return info.error();
+    auto input = techniqueInput(**info, std::move(surface), overrides, maps, mapsPath);
+    if (!input) return input.error();
+    return (*info)->create(*input);
 }
 
 }  // namespace relief

@@ -20,9 +20,22 @@ std::string techniqueNames(std::string_view separator = ", ");
 Result<ParamValues> resolveParams(const TechniqueInfo& info,
                                   const std::vector<std::pair<std::string, double>>& overrides);
 
-// Looks the technique up, resolves its parameters and creates its tracer.
+// The row's input: parameters resolved, and its maps taken from `maps` (a map file already
+// checked against the surface, named `mapsPath` in messages) when given; null `maps` = build
+// them. A file without this row's maps is an error that names the bake command.
+Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
+                                      std::shared_ptr<const Surface> surface,
+                                      const std::vector<std::pair<std::string, double>>& overrides,
+                                      const MapFile* maps = nullptr,
+                                      std::string_view mapsPath = {});
+
+// The one way to a CPU tracer (CLI, viewer, bench, tests): looks the technique up, resolves its
+// parameters and creates its tracer (the map file, if any, must outlive it).
 Result<std::unique_ptr<Tracer>> createTracer(
     std::string_view name, std::shared_ptr<const Surface> surface,
-    const std::vector<std::pair<std::string, double>>& overrides = {});
+    const std::vector<std::pair<std::string, double>>& overrides = {},
+    const MapFile* maps = nullptr, std::string_view mapsPath = {});
+// findTechnique, or an error listing the known names.
+Result<const TechniqueInfo*> lookupTechnique(std::string_view name);
 
 }  // namespace relief

@@ -51,6 +51,11 @@ std::string_view toString(ParamRole role) {
     return "?";
 }
 
+MapSource mapSourceOf(const Surface& surface) {
+    return {surface.heightfield().contentHash(), surface.width(), surface.height(),
+            std::string(toString(surface.edge())), surface.depth()};
+}
+
 const ParamSpec* paramWithRole(const TechniqueInfo& info, ParamRole role) {
     for (const ParamSpec& spec : info.params)
         if (spec.role == role) return &spec;

@@ -135,6 +135,9 @@ std::unique_ptr<Tracer> makeBatchTracer(Impl impl) {
     return std::make_unique<BatchTracer<Impl>>(std::move(impl));
 }
 
+// What maps baked for this surface record, and must match when they are used.
+MapSource mapSourceOf(const Surface& surface);
+
 // Everything a technique needs to build its maps and its tracer. The surface outlives the tracer.
 struct TechniqueInput {
     std::shared_ptr<const Surface> surface;
