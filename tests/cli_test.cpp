@@ -112,6 +112,24 @@ TEST_F(Cli, Table) {
     for (const CliCase& c : kCases) run(c);
 }
 
+// --max-steps, --phi-max and --visibility set the parameter with that role (DESIGN §3 names);
+// an option no selected technique has is an error, never ignored.
+const CliCase kRoleCases[] = {
+    {"phi-max", "trace gen:fbm:32x32 -t safety-cc --phi-max -45 --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"phi-max out of range", "trace gen:fbm:32x32 -t safety-sd --phi-max 95 --rays {tmp}/rays.csv", 1, "", "out of range"},
+    {"phi-max unknown to the row", "trace gen:fbm:32x32 -t cone --phi-max -45 --rays {tmp}/rays.csv", 1, "", "technique 'cone' has no phi-max parameter"},
+    {"bake exterior", "bake gen:fbm:24x24 --maps safety-sd,cone --visibility exterior -o {tmp}/ext.exr --deterministic", 0, "safety-sd: 1 arrays", ""},
+    {"trace exterior maps", "trace gen:fbm:24x24 -t safety-sd --visibility exterior --maps {tmp}/ext.exr --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"visibility unknown to every row", "bake gen:fbm:24x24 --maps cone,maxmip --visibility exterior -o {tmp}/x.exr", 1, "", "none of cone, maxmip has a visibility parameter"},
+    {"bad visibility", "trace gen:fbm:24x24 -t safety-sd --visibility some --rays {tmp}/rays.csv", 1, "", "relief: error:"},
+    {"bake param no row has", "bake gen:fbm:24x24 --maps cone,maxmip --param warp=1 -o {tmp}/x.exr", 1, "", "none of cone, maxmip has this parameter"},
+    {"max-steps without a cap", "trace gen:fbm:24x24 -t parallax --max-steps 3 --rays {tmp}/rays.csv", 1, "", "technique 'parallax' has no iteration cap parameter"},
+};
+
+TEST_F(Cli, RoleOptions) {
+    for (const CliCase& c : kRoleCases) run(c);
+}
+
 TEST_F(Cli, FailedRenderLeavesNoPartialOutput) {
     // An unreadable colour map fails after the render; nothing may be left in the folder.
     const fs::path dir = tmp / "atomic";

@@ -46,14 +46,11 @@ void runBake(const BakeOptions& o) {
     auto surface = orFail(makeSurface(o.surface, hf));
     MapFile file;
     file.source = mapSourceOf(*surface);
-    const auto overrides = orFail(parameterOverrides(o.technique));
-    for (const TechniqueInfo* info : infos) {
-        // Parameters a technique does not know are only an error if no technique knows them.
-        std::vector<std::pair<std::string, double>> mine;
-        for (const auto& kv : overrides)
-            for (const ParamSpec& p : info->params)
-                if (p.name == kv.first) mine.push_back(kv);
-        TechniqueInput input{surface, orFail(resolveParams(*info, mine)), nullptr};
+    // Options and parameters a technique lacks are only an error if no technique has them.
+    const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
+    for (size_t k = 0; k < infos.size(); ++k) {
+        const TechniqueInfo* info = infos[k];
+        TechniqueInput input{surface, orFail(resolveParams(*info, overrides[k])), nullptr};
         const auto start = std::chrono::steady_clock::now();
         TechniqueMaps maps = orFail(info->buildMaps(input));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -76,6 +73,7 @@ void addBakeCommand(CLI::App& app) {
     addSurfaceOptions(*cmd, o->surface);
     cmd->add_option("--maps,-t,--technique", o->techniques, "techniques whose maps to bake, comma-separated")->required();
     cmd->add_option("--max-steps", o->technique.maxSteps, "iteration cap, if a map builder uses one");
+    addRoleOptions(*cmd, o->technique);
     cmd->add_option("--param", o->technique.params, "technique parameter NAME=VALUE (repeatable)");
     cmd->add_option("-o,--output", o->output, "map file (.exr)")->required();
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the output");

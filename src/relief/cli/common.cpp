@@ -4,6 +4,7 @@
 #include <relief/techniques/registry.h>
 
 #include <map>
+#include <tuple>
 
 #include <charconv>
 #include <cmath>
@@ -35,11 +36,20 @@ void addTechniqueOptions(CLI::App& app, TechniqueOptions& o) {
     app.add_option("-t,--technique", o.name, "technique: " + techniqueNames())
         ->capture_default_str();
     app.add_option("--max-steps", o.maxSteps, "iteration cap of the technique");
+    addRoleOptions(app, o);
     app.add_option("--param", o.params, "technique parameter NAME=VALUE (repeatable)");
     app.add_option("--maps", o.mapsPath, "baked maps (relief bake) instead of building them");
     app.add_option("--backend", o.backend, "where rays are traced")
         ->check(CLI::IsMember({"cpu", "gl"}))
         ->capture_default_str();
+}
+
+void addRoleOptions(CLI::App& app, TechniqueOptions& o) {
+    app.add_option("--phi-max", o.phiMax,
+                   "viewing-angle restriction of the maps in degrees (techniques that have one)");
+    app.add_option("--visibility", o.visibility,
+                   "rays the maps are built for: all, or exterior (viewpoint outside the box)")
+        ->check(CLI::IsMember({"all", "exterior"}));
 }
 
 void addThreadsOption(CLI::App& app, int& threads) {
@@ -98,20 +108,89 @@ Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& o,
     return std::make_shared<const Surface>(std::move(hf), depth, edge);
 }
 
-Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& o) {
-    std::vector<std::pair<std::string, double>> overrides;
-    if (o.maxSteps) overrides.emplace_back("max-steps", double(*o.maxSteps));
+namespace {
+
+Result<Overrides> namedParams(const TechniqueOptions& o) {
+    Overrides overrides;
     for (const std::string& p : o.params) {
-        const size_t eq = p.find('=');
-        double value = 0;
-        const char* begin = p.c_str() + (eq == std::string::npos ? 0 : eq + 1);
-        const char* end = p.c_str() + p.size();
-        auto [ptr, ec] = std::from_chars(begin, end, value);
-        if (eq == std::string::npos || ec != std::errc() || ptr != end)
+        auto list = parseParamList(p);
+        if (!list || list->size() != 1)
             return makeError(ErrorKind::BadArgument, "--param '{}': expected NAME=NUMBER", p);
-        overrides.emplace_back(p.substr(0, eq), value);
+        overrides.push_back(list->front());
     }
     return overrides;
+}
+
+// The role options that were given, with the value each sets.
+std::vector<std::tuple<ParamRole, const char*, double>> roleValues(const TechniqueOptions& o) {
+    std::vector<std::tuple<ParamRole, const char*, double>> values;
+    if (o.maxSteps) values.emplace_back(ParamRole::IterationCap, "--max-steps", double(*o.maxSteps));
+    if (o.phiMax) values.emplace_back(ParamRole::PhiMax, "--phi-max", *o.phiMax);
+    if (!o.visibility.empty())
+        values.emplace_back(ParamRole::Visibility, "--visibility", o.visibility == "exterior" ? 1.0 : 0.0);
+    return values;
+}
+
+bool hasParam(const TechniqueInfo& info, std::string_view name) {
+    for (const ParamSpec& p : info.params)
+        if (p.name == name) return true;
+    return false;
+}
+
+std::string namesOf(std::span<const TechniqueInfo* const> infos) {
+    std::string names;
+    for (const TechniqueInfo* info : infos) names += (names.empty() ? "" : ", ") + std::string(info->name);
+    return names;
+}
+
+}  // namespace
+
+Result<Overrides> parameterOverrides(const TechniqueOptions& o) {
+    auto overrides = namedParams(o);
+    if (!overrides) return overrides.error();
+    if (o.maxSteps) overrides->insert(overrides->begin(), {"max-steps", double(*o.maxSteps)});
+    return overrides;
+}
+
+Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo* const> infos,
+                                                  const TechniqueOptions& o) {
+    auto named = namedParams(o);
+    if (!named) return named.error();
+    std::vector<Overrides> result(infos.size());
+    for (const auto& [role, option, value] : roleValues(o)) {
+        bool used = false;
+        for (size_t k = 0; k < infos.size(); ++k)
+            if (const ParamSpec* spec = paramWithRole(*infos[k], role)) {
+                result[k].emplace_back(std::string(spec->name), value);
+                used = true;
+            }
+        if (!used)
+            return makeError(ErrorKind::BadArgument, "{}: {} {} parameter", option,
+                             infos.size() == 1
+                                 ? fmt::format("technique '{}' has no", infos[0]->name)
+                                 : fmt::format("none of {} has a", namesOf(infos)),
+                             toString(role));
+    }
+    for (const auto& [name, value] : *named) {
+        bool used = false;
+        for (size_t k = 0; k < infos.size(); ++k)
+            if (hasParam(*infos[k], name)) {
+                result[k].emplace_back(name, value);
+                used = true;
+            }
+        if (!used && infos.size() > 1)
+            return makeError(ErrorKind::BadArgument, "--param {}: none of {} has this parameter",
+                             name, namesOf(infos));
+        if (!used) result[0].emplace_back(name, value);  // resolveParams names the technique
+    }
+    return result;
+}
+
+Result<Overrides> parameterOverrides(const TechniqueInfo& info, const TechniqueOptions& o) {
+    const TechniqueInfo* infos[] = {&info};
+    auto result = parameterOverrides(infos, o);
+    if (!result) return result.error();
+    return std::move(result->front());
 }
 
 namespace {
@@ -134,7 +213,7 @@ Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
                                            std::shared_ptr<const Surface> surface) {
     auto info = lookupTechnique(o.name);
     if (!info) return info.error();
-    auto overrides = parameterOverrides(o);
+    auto overrides = parameterOverrides(**info, o);
     if (!overrides) return overrides.error();
     std::shared_ptr<const MapFile> maps;
     if (!o.mapsPath.empty() && (*info)->buildMaps) {

@@ -29,7 +29,9 @@ struct SurfaceOptions {
 
 struct TechniqueOptions {
     std::string name = "exact";
-    std::optional<int> maxSteps;
+    std::optional<int> maxSteps;       // the parameter with role IterationCap
+    std::optional<double> phiMax;      // ... role PhiMax (degrees)
+    std::string visibility;            // ... role Visibility: "all" (0) or "exterior" (1)
     std::vector<std::string> params;  // "name=value"
     std::string mapsPath;             // --maps FILE: baked maps instead of building them
     std::string backend = "cpu";
@@ -50,8 +52,17 @@ void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, flo
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
 Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
                                                    std::shared_ptr<const Heightfield> hf);
-// Parameter overrides from --max-steps and --param NAME=VALUE.
-Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& options);
+using Overrides = std::vector<std::pair<std::string, double>>;
+// Parameter overrides from --max-steps and --param NAME=VALUE (by name; see below).
+Result<Overrides> parameterOverrides(const TechniqueOptions& options);
+// The overrides of each technique from the role options (--max-steps, --phi-max, --visibility:
+// the parameter with that role) and --param NAME=VALUE. What one technique lacks is left out for
+// it, and is an error only when none of `infos` has it.
+Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo* const> infos,
+                                                  const TechniqueOptions& options);
+Result<Overrides> parameterOverrides(const TechniqueInfo& info, const TechniqueOptions& options);
+// --phi-max and --visibility on a command (trace, render, bake, view).
+void addRoleOptions(CLI::App& app, TechniqueOptions& options);
 // The technique's tracer, with its maps from --maps FILE when given (checked against the surface).
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
                                            std::shared_ptr<const Surface> surface);
