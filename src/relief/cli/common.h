@@ -89,6 +89,8 @@ inline void orFail(Status status) {
 
 // The command table (main.cpp): the global options and every command, on an empty app.
 void addCommands(CLI::App& app);
+// `relief ARGS...` in this process: parses, runs the command, returns its exit code.
+int runCommandLine(int argc, char** argv);
 void addInfoCommand(CLI::App& app);
 void addTraceCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);

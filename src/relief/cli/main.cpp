@@ -25,9 +25,9 @@ void addCommands(CLI::App& app) {
 
 }  // namespace relief::cli
 
-#ifndef RELIEF_CLI_NO_MAIN  // defined by fuzz/fuzz_cli.cpp's build, which has libFuzzer's main
-int main(int argc, char** argv) {
-    using namespace relief::cli;
+namespace relief::cli {
+
+int runCommandLine(int argc, char** argv) {
     CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
     addCommands(app);
     try {
@@ -49,4 +49,11 @@ int main(int argc, char** argv) {
     }
     return 0;
 }
+
+}  // namespace relief::cli
+
+// RELIEF_CLI_NO_MAIN: the CLI linked into another program (fuzz/fuzz_cli.cpp with libFuzzer's
+// main, the toy-technique test), which calls runCommandLine or addCommands itself.
+#ifndef RELIEF_CLI_NO_MAIN
+int main(int argc, char** argv) { return relief::cli::runCommandLine(argc, argv); }
 #endif

@@ -41,8 +41,11 @@ constexpr VariantSpec kSafetyVariants[] = {
     {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
 };
 
+// The built-in rows. A function-local table, so that a row registered by another translation
+// unit's static initializer (a plug-in, a test) never sees it uninitialized.
+std::span<const TechniqueInfo> builtinRows() {
 // clang-format off
-const TechniqueInfo kTechniques[] = {
+static const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
@@ -96,27 +99,55 @@ const TechniqueInfo kTechniques[] = {
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
 };
 // clang-format on
+return kTechniques;
+}
+
+// The built-in rows plus any registered at start-up. Capacity is fixed so that the pointers
+// findTechnique hands out stay valid.
+constexpr size_t kMaxRows = 64;
+std::vector<TechniqueInfo>& rows() {
+    static std::vector<TechniqueInfo> all = [] {
+        std::vector<TechniqueInfo> v;
+        v.reserve(kMaxRows);
+        const std::span<const TechniqueInfo> builtin = builtinRows();
+        v.assign(builtin.begin(), builtin.end());
+        return v;
+    }();
+    return all;
+}
 
 }  // namespace
 
-std::span<const TechniqueInfo> techniques() { return kTechniques; }
+std::span<const TechniqueInfo> techniques() { return rows(); }
+
+Status registerTechnique(const TechniqueInfo& info) {
+    if (findTechnique(info.name))
+        return makeError(ErrorKind::BadArgument, "technique '{}' is already registered", info.name);
+    if (info.reference || !info.create || info.name.empty())
+        return makeError(ErrorKind::BadArgument, "technique '{}': a row needs a name and a "
+                         "create function, and cannot be the reference", info.name);
+    if (rows().size() == kMaxRows)
+        return makeError(ErrorKind::Unsupported, "the registry holds {} techniques", kMaxRows);
+    rows().push_back(info);
+    return {};
+}
 
 const TechniqueInfo& referenceTechnique() {
-    for (const TechniqueInfo& info : kTechniques)
+    for (const TechniqueInfo& info : techniques())
         if (info.reference) return info;
     RELIEF_CHECK(false);  // RegistryTest.ExactlyOneReference
-    return kTechniques[0];
+    return techniques().front();
 }
 
 const TechniqueInfo* findTechnique(std::string_view name) {
-    for (const TechniqueInfo& info : kTechniques)
+    for (const TechniqueInfo& info : techniques())
         if (info.name == name) return &info;
     return nullptr;
 }
 
 std::string techniqueNames(std::string_view separator) {
     std::string names;
-    for (const TechniqueInfo& info : kTechniques) {
+    for (const TechniqueInfo& info : techniques()) {
         if (!names.empty()) names += separator;
         names += info.name;
     }

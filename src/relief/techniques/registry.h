@@ -10,6 +10,9 @@
 namespace relief {
 
 std::span<const TechniqueInfo> techniques();
+// Adds a row (a plug-in or a test's toy technique) before the registry is used; its strings and
+// spans must outlive the process. Refuses a second row of the same name or a second reference.
+Status registerTechnique(const TechniqueInfo& info);
 const TechniqueInfo* findTechnique(std::string_view name);
 // The row every other one is judged against (DESIGN §3: `exact`).
 const TechniqueInfo& referenceTechnique();
