@@ -1,4 +1,4 @@
-#include <relief/curves/curves_tracer.h>
+#include <relief/techniques/curves/curves.h>
 
 #include <cmath>
 #include <limits>
