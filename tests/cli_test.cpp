@@ -100,6 +100,7 @@ const CliCase kCases[] = {
     {"bad raw layout", "info {tmp}/raw.bin --raw 10x10:u12", 1, "", "u8, u16 or f32"},
     {"epsilon option gone", "render gen:sine:16x16 -t curves --epsilon 0.1 --size 8x8 -o {tmp}/x.png", 1, "", "--epsilon"},
     {"radius without sphere", "render gen:sine:16x16 -t curves --radius 5 --size 8x8 -o {tmp}/x.png", 1, "", "--radius"},
+    {"curves samples refused by trace", "trace gen:flat:8x8 -t curves --param samples=4 --rays {tmp}/rays.csv", 1, "", "image renderer's"},
     {"curves angle-step refused", "render gen:sine:16x16 -t curves --param angle-step=0.01 --size 8x8 -o {tmp}/x.png", 1, "", "per-ray tracer only"},
     // I/O errors: exit 2.
     {"missing heightfield", "info {tmp}/does-not-exist.png", 2, "", "does-not-exist.png"},
