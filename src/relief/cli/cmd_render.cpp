@@ -270,16 +270,15 @@ TechniqueRun curvesRun(const TechniqueInfo& info, const ParamValues& params,
 }
 
 // A row's tracer on the sphere, one ray per pixel.
-TechniqueRun sphereRun(const TechniqueInfo& info, const ParamValues& params,
+TechniqueRun sphereRun(const TechniqueInfo& info, const Tracer& tracer,
                        const curves::CurvesScene& scene) {
-    const auto tracer = orFail(info.createSphere(scene.sphere, params));
     std::unique_ptr<Tracer> reference;
     if (!info.reference) {
         const TechniqueInfo& ref = referenceTechnique();
         reference = orFail(ref.createSphere(scene.sphere, orFail(resolveParams(ref, {}))));
     }
     return runOf(info, std::make_shared<const curves::CurvesRun>(
-                           orFail(curves::renderSphere(scene, *tracer, reference.get()))),
+                           orFail(curves::renderSphere(scene, tracer, reference.get()))),
                  "steps");
 }
 
@@ -340,15 +339,20 @@ void runRender(const RenderOptions& o) {
     const ivec2 size = orFail(parseImageSize(o.size));
     auto hf = orFail(loadHeightfield(o.surface));
     auto surface = orFail(makeSurface(o.surface, hf));
-    // Per-pixel rows on the plane: their tracers (maps, backend) before anything is drawn.
+    const auto sphereSurface = sphere ? curves::makeSphere(*surface, o.radius) : nullptr;
+    // The per-pixel rows' tracers (maps, backend, the sphere's) before anything is drawn.
     std::vector<std::unique_ptr<Tracer>> tracers(names.size());
-    std::vector<std::string> pixelNames;
+    std::vector<std::string> planeNames;
     for (size_t k = 0; k < names.size(); ++k) {
-        if (sphere || infos[k]->image != ImageMethod::PerPixel) continue;
+        if (infos[k]->image != ImageMethod::PerPixel) continue;
+        if (sphere) {
+            tracers[k] = orFail(infos[k]->createSphere(sphereSurface, params[k]));
+            continue;
+        }
         TechniqueOptions t = o.technique;
         t.name = names[k];
         tracers[k] = orFail(makeTracer(t, surface));
-        pixelNames.push_back(names[k]);
+        planeNames.push_back(names[k]);
     }
     const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
     const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
@@ -357,13 +361,11 @@ void runRender(const RenderOptions& o) {
     shading.shadows = o.shadows;
     shading.color = color ? &*color : nullptr;
     shading.normalMap = normals ? &*normals : nullptr;
-    const curves::CurvesScene scene{
-        surface, sphere ? curves::makeSphere(*surface, o.radius) : nullptr, o.view, size.x, size.y,
-        shading};
+    const curves::CurvesScene scene{surface, sphereSurface, o.view, size.x, size.y, shading};
     const Camera camera(o.view, *surface, size.x, size.y);
     std::optional<Image<Hit>> reference;  // the plane's, per pixel, for the per-pixel rows
-    if (!pixelNames.empty()) {
-        warnAboutView(o.technique, pixelNames, camera);
+    if (!planeNames.empty()) {
+        warnAboutView(o.technique, planeNames, camera);
         auto exact = orFail(createTracer(referenceTechnique().name, surface));
         reference = tracePrimary(camera, *exact);
     }
@@ -374,7 +376,7 @@ void runRender(const RenderOptions& o) {
         if (info.image == ImageMethod::VisibilityCurves) {
             run = curvesRun(info, params[k], scene);
         } else if (sphere) {
-            run = sphereRun(info, params[k], scene);
+            run = sphereRun(info, *tracers[k], scene);
         } else {
             run = planeRun(info, *surface, camera, *tracers[k], shading, *reference);
         }
