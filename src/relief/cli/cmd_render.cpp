@@ -196,12 +196,14 @@ bool drawsSphere(const TechniqueInfo& info) {
     return info.createSphere || info.image == ImageMethod::VisibilityCurves;
 }
 
-std::string sphereTechniqueNames() {
+std::string namesWhere(bool (*keep)(const TechniqueInfo&)) {
     std::string names;
     for (const TechniqueInfo& info : techniques())
-        if (drawsSphere(info)) names += (names.empty() ? "" : ", ") + std::string(info.name);
+        if (keep(info)) names += (names.empty() ? "" : ", ") + std::string(info.name);
     return names;
 }
+
+std::string sphereTechniqueNames() { return namesWhere(drawsSphere); }
 
 // Everything a row's path cannot honour is refused before anything is drawn.
 Status checkDrawable(const RenderOptions& o, const TechniqueInfo& info,
@@ -396,7 +398,11 @@ void addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand(
         "render", "render a heightfield with one or several techniques (orbit camera, Lambert "
-                  "shading) and compare each with the exact reference");
+                  "shading; per pixel, or with a row's own image method: " +
+                      namesWhere([](const TechniqueInfo& info) {
+                          return info.image != ImageMethod::PerPixel;
+                      }) +
+                      ") and compare each with the exact reference of the base surface");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
     cmd->get_option("--technique")->description("technique, comma-separated list, or 'all': " + techniqueNames());
@@ -413,7 +419,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the summary");
     cmd->add_option("--surface", o->baseSurface,
-                    "base surface (sphere: the techniques that can trace it, " + sphereTechniqueNames() + ")")
+                    "base surface (sphere: " + sphereTechniqueNames() + ")")
         ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
         ->check(CLI::Range(0.0, 1e7));
