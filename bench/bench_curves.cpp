@@ -5,7 +5,7 @@
 //   bench_curves [SIZE=512] [IMAGE=640x480] [REPEATS=3] [DEPTH_RATIO=0.1]
 #include <relief/core/generators.h>
 #include <relief/core/parallel.h>
-#include <relief/curves/curves_renderer.h>
+#include <relief/render/curves/curves_renderer.h>
 #include <relief/render/compare.h>
 #include <relief/techniques/registry.h>
 

@@ -74,6 +74,12 @@ const CliCase kCases[] = {
     {"render all", "render gen:walls:24x24 -t all --size 32x24 --out-dir {tmp}/all --format json --deterministic", 0, "\"technique\": \"parallax\"", ""},
     {"version", "--version", 0, "relief", ""},
     {"phi-max warning", "render gen:fbm:32x32 -t safety-cc --param phi-max=-45 --size 32x24 --elevation 30 -o {tmp}/w.png --deterministic", 0, "| safety-cc | exact |", "outside the maps' viewing-angle restriction"},
+    // The visibility-curve renderer and the sphere take the one render path.
+    {"render curves", "render gen:sine:32x32 -t curves --size 40x30 -o {tmp}/c.png --depth-out {tmp}/c.exr --deterministic", 0, "| curves | 2 | 0.05 |", ""},
+    {"curves epsilon param", "render gen:sine:32x32 -t curves --param epsilon=0.01 --param samples=4 --size 40x30 --out-dir {tmp}/curves --deterministic", 0, "| curves | 4 | 0.01 |", ""},
+    {"curves json", "render gen:sine:32x32 -t curves,exact --size 40x30 --out-dir {tmp}/curves2 --format json --deterministic", 0, "\"visibility_curves\":", ""},
+    {"sphere curves", "render gen:sine:32x16 --depth 2 --surface sphere --radius 6 -t curves --size 40x30 --out-dir {tmp}/sphere --deterministic", 0, "on the sphere", ""},
+    {"sphere exact", "render gen:sine:32x16 --depth 2 --surface sphere -t exact --size 40x30 -o {tmp}/se.png --steps-out {tmp}/se-steps.png --deterministic", 0, "| exact | exact |", ""},
     {"bake and use maps", "bake gen:fbm:24x24 --maps quadtree,cone -o {tmp}/m.exr --deterministic", 0, "wrote", ""},
     {"use baked maps", "trace gen:fbm:24x24 -t quadtree --maps {tmp}/m.exr --rays {tmp}/rays.csv", 0, "hit,t", ""},
     {"stale maps refused", "trace gen:fbm:24x24:9 -t cone --maps {tmp}/m.exr --rays {tmp}/rays.csv", 3, "", "stale maps"},
@@ -92,6 +98,10 @@ const CliCase kCases[] = {
     {"render without output", "render gen:flat:8x8", 1, "", "-o FILE.png"},
     {"bad height range", "info gen:flat:8x8 --height-range 5:1", 1, "", "--height-range"},
     {"bad raw layout", "info {tmp}/raw.bin --raw 10x10:u12", 1, "", "u8, u16 or f32"},
+    {"epsilon option gone", "render gen:sine:16x16 -t curves --epsilon 0.1 --size 8x8 -o {tmp}/x.png", 1, "", "--epsilon"},
+    {"radius without sphere", "render gen:sine:16x16 -t curves --radius 5 --size 8x8 -o {tmp}/x.png", 1, "", "--radius"},
+    {"curves samples refused by trace", "trace gen:flat:8x8 -t curves --param samples=4 --rays {tmp}/rays.csv", 1, "", "image renderer's"},
+    {"curves angle-step refused", "render gen:sine:16x16 -t curves --param angle-step=0.01 --size 8x8 -o {tmp}/x.png", 1, "", "per-ray tracer only"},
     // I/O errors: exit 2.
     {"missing heightfield", "info {tmp}/does-not-exist.png", 2, "", "does-not-exist.png"},
     {"missing ray file", "trace gen:flat:8x8 --rays {tmp}/none.csv", 2, "", "none.csv"},
@@ -106,6 +116,16 @@ const CliCase kCases[] = {
     {"nan in rays", "trace gen:flat:8x8 --rays {tmp}/nan.csv", 3, "", "nan.csv:1: non-finite"},
     {"short ray line", "trace gen:flat:8x8 --rays {tmp}/short.csv", 3, "", "short.csv:1: expected six numbers"},
     {"zero direction", "trace gen:flat:8x8 --rays {tmp}/zero.csv", 3, "", "zero or unusable direction"},
+    // Unsupported: exit 5.
+    {"sphere refused", "render gen:sine:16x16 -t cone --surface sphere --size 8x8 -o {tmp}/x.png", 5, "", "'cone' cannot trace the sphere (--surface sphere takes: exact, curves)"},
+    {"curves gl refused", "render gen:sine:16x16 -t curves --backend gl --size 8x8 -o {tmp}/x.png", 5, "", "runs on the CPU only"},
+    {"sphere gl refused", "render gen:sine:16x16 -t exact --surface sphere --backend gl --size 8x8 -o {tmp}/x.png", 5, "", "runs on the CPU only"},
+    {"curves shadows refused", "render gen:sine:16x16 -t curves --shadows --size 8x8 -o {tmp}/x.png", 5, "", "--shadows"},
+    {"curves maps refused", "render gen:sine:16x16 -t curves --maps {tmp}/m.exr --size 8x8 -o {tmp}/x.png", 5, "", "--maps: curves reads no maps"},
+    {"sphere maps refused", "render gen:sine:16x16 -t exact --surface sphere --maps {tmp}/m.exr --size 8x8 -o {tmp}/x.png", 5, "", "--maps"},
+    {"sphere cap refused", "render gen:sine:16x16 -t exact --surface sphere --max-steps 10 --size 8x8 -o {tmp}/x.png", 5, "", "no iteration cap"},
+    {"sphere repeat refused", "render gen:sine:16x16 -t curves --surface sphere --edge repeat --size 8x8 -o {tmp}/x.png", 5, "", "--edge"},
+    {"curves repeat refused", "render gen:sine:16x16 -t curves --edge repeat --size 8x8 -o {tmp}/x.png", 5, "", "--edge clamp"},
 };
 
 TEST_F(Cli, Table) {

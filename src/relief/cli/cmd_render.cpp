@@ -1,9 +1,12 @@
 // relief render HEIGHTFIELD -t TECH[,TECH...|all] [view, light, output options]
+// One path for every row: each is drawn with its image method (TechniqueInfo::image: per pixel
+// through its tracer, or the visibility-curve renderer) on the base surface (the plane, or the
+// sphere for rows that can draw it), measured against that surface's exact reference.
 #include <relief/cli/common.h>
 #include <relief/core/parallel.h>
-#include <relief/curves/curves_command.h>
 #include <relief/io/image_write.h>
 #include <relief/render/compare.h>
+#include <relief/render/curves/curves_image.h>
 #include <relief/render/renderer.h>
 #include <relief/techniques/registry.h>
 
@@ -11,8 +14,10 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
+#include <functional>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 namespace relief::cli {
 
@@ -31,17 +36,25 @@ struct RenderOptions {
     std::string format = "text";
     bool deterministic = false;
     int threads = 0;
-    std::string baseSurface = "plane";  // visibility curves (issue 8): plane or sphere
+    std::string baseSurface = "plane";  // DESIGN §6: plane or sphere
     double radius = 0.0;
-    double epsilon = 0.05;
-    double samples = 2.0;
+};
+
+// What the visibility-curve renderer adds to a run's summary (the paper's Table 1 counts).
+struct CurvesSummary {
+    curves::StepCounts counts;
+    int64_t emptyPixels = 0;
+    double samplesPerPixel = 0.0, epsilon = 0.0;
 };
 
 struct TechniqueRun {
     std::string name;
     std::string contract;
-    RenderResult result;
-    ErrorStats stats;
+    RenderResult result;  // colour, per-pixel hits, seconds
+    ErrorStats stats;     // per pixel, or per sample for the visibility curves
+    // The diagnostic images, drawn only when asked for.
+    std::function<ImageRgb8(const TechniqueRun&)> stepsImage, errorImage;
+    std::optional<CurvesSummary> curves;
 };
 
 std::vector<std::string> techniqueList(const std::string& spec) {
@@ -66,14 +79,46 @@ Result<ivec2> parseImageSize(const std::string& text) {
     return ivec2(w, h);
 }
 
-void writeOutputs(const RenderOptions& o, const TechniqueRun& run, const Image<Hit>& reference,
-                  const std::string& colorPath, const std::string& stepsPath,
-                  const std::string& errorPath) {
+void writeOutputs(const RenderOptions& o, const TechniqueRun& run, const std::string& colorPath,
+                  const std::string& stepsPath, const std::string& errorPath) {
     if (!colorPath.empty()) orFail(writePng(colorPath, run.result.color));
     if (!o.depthOut.empty()) orFail(writeExr(o.depthOut, depthValues(run.result.hits)));
-    if (!stepsPath.empty()) orFail(writePng(stepsPath, stepsHeatmap(run.result.hits, run.stats, run.name)));
-    if (!errorPath.empty())
-        orFail(writePng(errorPath, errorHeatmap(run.result.hits, reference, run.stats, run.name)));
+    if (!stepsPath.empty()) orFail(writePng(stepsPath, run.stepsImage(run)));
+    if (!errorPath.empty()) orFail(writePng(errorPath, run.errorImage(run)));
+}
+
+nlohmann::json curvesJson(const CurvesSummary& c) {
+    return {{"samples_per_pixel", c.samplesPerPixel}, {"epsilon", c.epsilon},
+            {"visibility_curves", c.counts.curves}, {"inside_samples", c.counts.insideSamples},
+            {"extra_samples", c.counts.extraSamples}, {"advance_steps", c.counts.advanceSteps},
+            {"reverse_steps", c.counts.reverseSteps}, {"binary_cuts", c.counts.binaryCuts},
+            {"wall_hits", c.counts.wallHits}, {"capped_samples", c.counts.cappedSamples},
+            {"empty_pixels", c.emptyPixels}};
+}
+
+// The visibility-curve rows' counts, below the main table.
+void printCurvesTable(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
+                      std::ostream& out) {
+    bool any = false;
+    for (const TechniqueRun& r : runs) {
+        if (!r.curves) continue;
+        if (!any)
+            out << fmt::format(
+                "\nvisibility curves: errors per sample against the {} reference on the same ray\n\n"
+                "| technique | samples/px | epsilon | curves | inside | extra | advance | reverse | "
+                "cuts | walls | capped | evals/sample | empty px |\n"
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+                o.baseSurface == "sphere" ? "sphere" : "exact");
+        any = true;
+        const curves::StepCounts& c = r.curves->counts;
+        out << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} "
+                           "|\n",
+                           r.name, r.curves->samplesPerPixel, r.curves->epsilon, c.curves,
+                           c.insideSamples, c.extraSamples, c.advanceSteps, c.reverseSteps,
+                           c.binaryCuts, c.wallHits, c.cappedSamples,
+                           double(c.evaluations()) / double(std::max<int64_t>(1, c.samples())),
+                           r.curves->emptyPixels);
+    }
 }
 
 void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs, std::ostream& out) {
@@ -88,7 +133,9 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
                                   {"error_max", r.stats.error.max},
                                   {"steps_mean", r.stats.steps.mean},
                                   {"steps_max", r.stats.steps.max},
-                                  {"fetches_mean", r.stats.fetches.mean}};
+                                  {"fetches_mean", r.stats.fetches.mean},
+                                  {"surface", o.baseSurface}};
+            if (r.curves) row.update(curvesJson(*r.curves));
             if (!o.deterministic) row["seconds"] = r.result.seconds;
             rows.push_back(row);
         }
@@ -104,6 +151,9 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
                            100.0 * r.stats.wrongRate(),
                            o.deterministic ? std::string("-")
                                            : fmt::format("{:.1f}", 1000.0 * r.result.seconds));
+    if (o.baseSurface == "sphere")
+        out << "\non the sphere; errors against the sphere reference\n";
+    printCurvesTable(o, runs, out);
 }
 
 // summary.md and summary.json beside the images, so a render folder explains itself.
@@ -113,10 +163,10 @@ void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& 
         as.format = format;
         std::ostringstream text;
         if (as.format == "text")
-            text << fmt::format("# relief render: {}\n\nview: elevation {} deg, azimuth {} deg, "
-                                "distance {}, fov {} deg, size {}\n\n",
-                                o.surface.source, o.view.elevationDeg, o.view.azimuthDeg,
-                                o.view.distance, o.view.fovDeg, o.size);
+            text << fmt::format("# relief render: {}\n\nsurface: {}; view: elevation {} deg, "
+                                "azimuth {} deg, distance {}, fov {} deg, size {}\n\n",
+                                o.surface.source, o.baseSurface, o.view.elevationDeg,
+                                o.view.azimuthDeg, o.view.distance, o.view.fovDeg, o.size);
         printSummary(as, runs, text);
         orFail(writeTextFile(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str()));
     }
@@ -125,41 +175,6 @@ void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& 
 std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     if (path.empty()) return std::nullopt;
     return orFail(loadColorImage(path));
-}
-
-// `-t curves` and `--surface sphere` go to the visibility-curve renderer (curves/curves_command.h).
-void runCurvesRender(const RenderOptions& o) {
-    if (o.output.empty() && o.outDir.empty())
-        throw CommandFailed{{ErrorKind::BadArgument, "say where to write: -o FILE.png or --out-dir DIR"}};
-    std::error_code ec;
-    if (!o.outDir.empty() && (std::filesystem::create_directories(o.outDir, ec), ec))
-        throw CommandFailed{makeError(ErrorKind::Io, "{}: cannot create folder: {}", o.outDir, ec.message())};
-    curves::CurvesRenderRequest r;
-    const ivec2 size = orFail(parseImageSize(o.size));
-    r.surface = orFail(makeSurface(o.surface, orFail(loadHeightfield(o.surface))));
-    r.base = o.baseSurface == "sphere" ? curves::BaseSurface::Sphere : curves::BaseSurface::Plane;
-    r.radius = o.radius;
-    r.technique = o.technique.name;
-    r.view = o.view;
-    r.width = size.x;
-    r.height = size.y;
-    r.shading.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
-    const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
-    const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
-    r.shading.color = color ? &*color : nullptr;
-    r.shading.normalMap = normals ? &*normals : nullptr;
-    r.options.samplesPerPixel = o.samples;
-    r.options.step.epsilon = o.epsilon;
-    if (o.technique.maxSteps) r.options.step.maxEvaluations = *o.technique.maxSteps;
-    r.sourceName = o.surface.source;
-    r.output = o.output;
-    r.outDir = o.outDir;
-    r.stepsOut = o.stepsOut;
-    r.errorOut = o.errorOut;
-    r.json = o.format == "json";
-    r.deterministic = o.deterministic;
-    if (o.shadows) throw CommandFailed{{ErrorKind::Unsupported, "curves: --shadows is not supported"}};
-    std::cout << orFail(curves::runCurvesRender(r));
 }
 
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
@@ -176,15 +191,148 @@ void warnAboutView(const TechniqueOptions& options, const std::vector<std::strin
     }
 }
 
+// The rows that can be drawn on the sphere: a tracer of it, or an image method that draws it.
+bool drawsSphere(const TechniqueInfo& info) {
+    return info.createSphere || info.image == ImageMethod::VisibilityCurves;
+}
+
+std::string namesWhere(bool (*keep)(const TechniqueInfo&)) {
+    std::string names;
+    for (const TechniqueInfo& info : techniques())
+        if (keep(info)) names += (names.empty() ? "" : ", ") + std::string(info.name);
+    return names;
+}
+
+std::string sphereTechniqueNames() { return namesWhere(drawsSphere); }
+
+// Everything a row's path cannot honour is refused before anything is drawn.
+Status checkDrawable(const RenderOptions& o, const TechniqueInfo& info,
+                     const std::vector<std::pair<std::string, double>>& overrides) {
+    const bool sphere = o.baseSurface == "sphere";
+    const bool curves = info.image == ImageMethod::VisibilityCurves;
+    if (sphere && !drawsSphere(info))
+        return makeError(ErrorKind::Unsupported,
+                         "'{}' cannot trace the sphere (--surface sphere takes: {})", info.name,
+                         sphereTechniqueNames());
+    const std::string_view what =
+        curves ? "the visibility-curve renderer" : "rendering on the sphere";
+    if ((curves || sphere) && o.technique.backend != "cpu")
+        return makeError(ErrorKind::Unsupported, "{}: --backend {}: {} runs on the CPU only",
+                         info.name, o.technique.backend, what);
+    if ((curves || sphere) && o.shadows)
+        return makeError(ErrorKind::Unsupported, "{}: --shadows: {} traces no shadow rays",
+                         info.name, what);
+    if (sphere && !o.technique.mapsPath.empty())
+        return makeError(ErrorKind::Unsupported, "{}: --maps: baked maps are for the plane",
+                         info.name);
+    if (curves)
+        for (const auto& [name, value] : overrides)
+            for (const ParamSpec& spec : info.params)
+                if (spec.name == name && spec.role == ParamRole::RayWalk)
+                    return makeError(ErrorKind::BadArgument,
+                                     "{}: parameter '{}' is read by the per-ray tracer only "
+                                     "(relief trace); the image renderer walks whole curves",
+                                     info.name, name);
+    return {};
+}
+
+TechniqueRun runOf(const TechniqueInfo& info, RenderResult result, const ErrorStats& stats) {
+    TechniqueRun run;
+    run.name = info.name;
+    run.contract = toString(info.contract);
+    run.result = std::move(result);
+    run.stats = stats;
+    return run;
+}
+
+// A run of the curves/sphere renderer (render/curves/curves_image.h): its heatmaps are per sample.
+TechniqueRun runOf(const TechniqueInfo& info, std::shared_ptr<const curves::CurvesRun> run,
+                   std::string_view stepsLabel) {
+    TechniqueRun out =
+        runOf(info, {run->result.hits, run->result.color, run->result.seconds}, run->stats);
+    out.stepsImage = [run, label = std::string(stepsLabel)](const TechniqueRun& r) {
+        return curves::stepsImage(*run, r.name + " " + label);
+    };
+    out.errorImage = [run](const TechniqueRun& r) {
+        return curves::errorImage(*run, r.name + " |t-t_ref|");
+    };
+    return out;
+}
+
+// The visibility-curve renderer's run, on the plane or the sphere.
+TechniqueRun curvesRun(const TechniqueInfo& info, const ParamValues& params,
+                       const curves::CurvesScene& scene) {
+    const curves::CurvesOptions options = curves::curvesOptions(info, params);
+    auto run = std::make_shared<const curves::CurvesRun>(
+        orFail(curves::renderAndMeasure(scene, options)));
+    TechniqueRun out = runOf(info, run, "evaluations/sample");
+    out.curves = CurvesSummary{run->result.counts, run->result.emptyPixels,
+                               options.samplesPerPixel, options.step.epsilon};
+    return out;
+}
+
+// A row's tracer on the sphere, one ray per pixel.
+TechniqueRun sphereRun(const TechniqueInfo& info, const Tracer& tracer,
+                       const curves::CurvesScene& scene) {
+    std::unique_ptr<Tracer> reference;
+    if (!info.reference) {
+        const TechniqueInfo& ref = referenceTechnique();
+        reference = orFail(ref.createSphere(scene.sphere, orFail(resolveParams(ref, {}))));
+    }
+    return runOf(info, std::make_shared<const curves::CurvesRun>(
+                           orFail(curves::renderSphere(scene, tracer, reference.get()))),
+                 "steps");
+}
+
+// A per-pixel row on the plane, against the plane's reference hits.
+TechniqueRun planeRun(const TechniqueInfo& info, const Surface& surface, const Camera& camera,
+                      const Tracer& tracer, const Shading& shading, const Image<Hit>& reference) {
+    RenderResult result = render(surface, camera, tracer, shading);
+    const ErrorStats stats = compareHits(result.hits, reference);
+    TechniqueRun run = runOf(info, std::move(result), stats);
+    run.stepsImage = [](const TechniqueRun& r) {
+        return stepsHeatmap(r.result.hits, r.stats, r.name);
+    };
+    run.errorImage = [&reference](const TechniqueRun& r) {
+        return errorHeatmap(r.result.hits, reference, r.stats, r.name);
+    };
+    return run;
+}
+
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
-    if (o.technique.name == "curves" || o.baseSurface == "sphere") return runCurvesRender(o);
     const std::vector<std::string> names = techniqueList(o.technique.name);
     const bool many = names.size() > 1;
+    const bool sphere = o.baseSurface == "sphere";
     if (many && o.outDir.empty())
         throw CommandFailed{{ErrorKind::BadArgument, "several techniques need --out-dir DIR"}};
     if (o.output.empty() && o.outDir.empty())
         throw CommandFailed{{ErrorKind::BadArgument, "say where to write: -o FILE.png or --out-dir DIR"}};
+    if (!sphere && o.radius != 0.0)
+        throw CommandFailed{
+            {ErrorKind::BadArgument, "--radius is the sphere's: add --surface sphere"}};
+    if (sphere && o.surface.edge != "clamp")
+        throw CommandFailed{{ErrorKind::Unsupported,
+                             "--edge: the sphere wraps in longitude and clamps at the poles by "
+                             "construction; --edge is the plane's"}};
+    const auto overrides = orFail(parameterOverrides(o.technique));
+    std::vector<const TechniqueInfo*> infos;
+    std::vector<ParamValues> params;
+    bool readsMaps = false;
+    for (const std::string& name : names) {
+        const TechniqueInfo* info = findTechnique(name);
+        if (!info)
+            throw CommandFailed{makeError(ErrorKind::BadArgument,
+                                          "unknown technique '{}' (known: {})", name,
+                                          techniqueNames())};
+        orFail(checkDrawable(o, *info, overrides));
+        params.push_back(orFail(resolveParams(*info, overrides)));
+        infos.push_back(info);
+        readsMaps |= info->buildMaps && info->image == ImageMethod::PerPixel;
+    }
+    if (!o.technique.mapsPath.empty() && !readsMaps)
+        throw CommandFailed{makeError(ErrorKind::Unsupported, "--maps: {} read{} no maps",
+                                      o.technique.name, many ? "" : "s")};
     if (!o.outDir.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(o.outDir, ec);
@@ -193,11 +341,20 @@ void runRender(const RenderOptions& o) {
     const ivec2 size = orFail(parseImageSize(o.size));
     auto hf = orFail(loadHeightfield(o.surface));
     auto surface = orFail(makeSurface(o.surface, hf));
-    std::vector<std::unique_ptr<Tracer>> tracers;
-    for (const std::string& name : names) {
+    const auto sphereSurface = sphere ? curves::makeSphere(*surface, o.radius) : nullptr;
+    // The per-pixel rows' tracers (maps, backend, the sphere's) before anything is drawn.
+    std::vector<std::unique_ptr<Tracer>> tracers(names.size());
+    std::vector<std::string> planeNames;
+    for (size_t k = 0; k < names.size(); ++k) {
+        if (infos[k]->image != ImageMethod::PerPixel) continue;
+        if (sphere) {
+            tracers[k] = orFail(infos[k]->createSphere(sphereSurface, params[k]));
+            continue;
+        }
         TechniqueOptions t = o.technique;
-        t.name = name;
-        tracers.push_back(orFail(makeTracer(t, surface)));
+        t.name = names[k];
+        tracers[k] = orFail(makeTracer(t, surface));
+        planeNames.push_back(names[k]);
     }
     const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
     const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
@@ -206,17 +363,27 @@ void runRender(const RenderOptions& o) {
     shading.shadows = o.shadows;
     shading.color = color ? &*color : nullptr;
     shading.normalMap = normals ? &*normals : nullptr;
+    const curves::CurvesScene scene{surface, sphereSurface, o.view, size.x, size.y, shading};
     const Camera camera(o.view, *surface, size.x, size.y);
-    warnAboutView(o.technique, names, camera);
-    auto exact = orFail(createTracer("exact", surface));
-    const Image<Hit> reference = tracePrimary(camera, *exact);
+    std::optional<Image<Hit>> reference;  // the plane's, per pixel, for the per-pixel rows
+    if (!planeNames.empty()) {
+        warnAboutView(o.technique, planeNames, camera);
+        auto exact = orFail(createTracer(referenceTechnique().name, surface));
+        reference = tracePrimary(camera, *exact);
+    }
     std::vector<TechniqueRun> runs;
     for (size_t k = 0; k < names.size(); ++k) {
-        TechniqueRun run{names[k], std::string(toString(findTechnique(names[k])->contract)),
-                         render(*surface, camera, *tracers[k], shading), {}};
-        run.stats = compareHits(run.result.hits, reference);
+        const TechniqueInfo& info = *infos[k];
+        TechniqueRun run;
+        if (info.image == ImageMethod::VisibilityCurves) {
+            run = curvesRun(info, params[k], scene);
+        } else if (sphere) {
+            run = sphereRun(info, *tracers[k], scene);
+        } else {
+            run = planeRun(info, *surface, camera, *tracers[k], shading, *reference);
+        }
         const std::string prefix = o.outDir.empty() ? "" : o.outDir + "/" + names[k];
-        writeOutputs(o, run, reference, many || o.output.empty() ? prefix + ".png" : o.output,
+        writeOutputs(o, run, many || o.output.empty() ? prefix + ".png" : o.output,
                      !o.stepsOut.empty() ? o.stepsOut : (prefix.empty() ? "" : prefix + "-steps.png"),
                      !o.errorOut.empty() ? o.errorOut : (prefix.empty() ? "" : prefix + "-error.png"));
         runs.push_back(std::move(run));
@@ -231,7 +398,11 @@ void addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand(
         "render", "render a heightfield with one or several techniques (orbit camera, Lambert "
-                  "shading) and compare each with the exact reference");
+                  "shading; per pixel, or with a row's own image method: " +
+                      namesWhere([](const TechniqueInfo& info) {
+                          return info.image != ImageMethod::PerPixel;
+                      }) +
+                      ") and compare each with the exact reference of the base surface");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
     cmd->get_option("--technique")->description("technique, comma-separated list, or 'all': " + techniqueNames());
@@ -247,14 +418,11 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--error-out", o->errorOut, "|t - t_exact| heatmap PNG (single technique)");
     cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the summary");
-    cmd->add_option("--surface", o->baseSurface, "base surface (sphere: -t curves or exact)")
+    cmd->add_option("--surface", o->baseSurface,
+                    "base surface (sphere: " + sphereTechniqueNames() + ")")
         ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
         ->check(CLI::Range(0.0, 1e7));
-    cmd->add_option("--epsilon", o->epsilon, "curves: convergence threshold, fraction of the ray spacing")
-        ->check(CLI::Range(1e-9, 10.0))->capture_default_str();
-    cmd->add_option("--samples", o->samples, "curves: samples per pixel")
-        ->check(CLI::Range(0.25, 256.0))->capture_default_str();
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runRender(*o); });
 }

@@ -23,7 +23,7 @@ struct RenderResult {
     double seconds = 0.0;  // wall time of tracing and shading
 };
 
-// The shading pieces, shared with the visibility-curve renderer (curves/).
+// The shading pieces, shared with the visibility-curve renderer (render/curves/).
 // The normal used for lighting: the normal map's where one is given and the point is on top of
 // the relief, else `geometric`.
 vec3 shadeNormal(const Surface& surface, const Shading& shading, const vec3& position,
@@ -38,8 +38,8 @@ RenderResult render(const Surface& surface, const Camera& camera, const Tracer& 
 // Traces the primary rays only (no shading), in tiles, in parallel.
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds = nullptr);
 
-// The shading of one point, shared with the visibility-curve renderer (curves/), which has its
-// own hits and (on the sphere) its own tangent frames. `texel` is the point in texel space: x, y
+// The shading of one point, shared with the visibility-curve renderer (render/curves/), which has
+// its own hits and (on the sphere) its own tangent frames. `texel` is the point in texel space: x, y
 // address the colour and normal maps, z/D tints when there is no colour map. Normals passed to
 // shadeNormal are in tangent space (texel space, z up); shadeLambert takes world normals.
 vec3 shadeAlbedo(const Surface& surface, const Shading& shading, const vec3& texel);

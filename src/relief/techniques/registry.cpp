@@ -1,6 +1,6 @@
 #include <relief/techniques/registry.h>
 
-#include <relief/curves/curves_tracer.h>
+#include <relief/techniques/curves/curves.h>
 #include <relief/techniques/exact/exact.h>
 #include <relief/techniques/cone/cone.h>
 #include <relief/techniques/relaxed_cone/relaxed_cone.h>
@@ -15,6 +15,7 @@
 #include <relief/techniques/safety_sd/safety_sd.h>
 
 #include <relief/core/check.h>
+#include <relief/sphere/sphere_reference.h>
 
 #include <cmath>
 
@@ -41,6 +42,15 @@ constexpr VariantSpec kSafetyVariants[] = {
     {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
 };
 
+// `exact` on the sphere: the sphere's reference (DESIGN §6).
+Result<std::unique_ptr<Tracer>> createExactSphere(std::shared_ptr<const SphereSurface> sphere,
+                                                  const ParamValues& params) {
+    if (params.getInt("max-steps") != 0)
+        return makeError(ErrorKind::Unsupported, "exact on the sphere: the sphere reference has "
+                                                  "no iteration cap (max-steps)");
+    return makeBatchTracer(SphereReference(std::move(sphere)));
+}
+
 // The built-in rows. A function-local table, so that a row registered by another translation
 // unit's static initializer (a plug-in, a test) never sees it uninitialized.
 std::span<const TechniqueInfo> builtinRows() {
@@ -49,7 +59,7 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
-     .glsl = "exact/exact.glsl", .reference = true},
+     .glsl = "exact/exact.glsl", .reference = true, .createSphere = createExactSphere},
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
@@ -96,7 +106,8 @@ static const TechniqueInfo kTechniques[] = {
      .glsl = "safety_cc/safety_cc.glsl", .variants = kSafetyVariants},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
-     .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
+     .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,
+     .image = ImageMethod::VisibilityCurves},
 };
 // clang-format on
 return kTechniques;

@@ -47,6 +47,8 @@ std::string_view toString(ParamRole role) {
         case ParamRole::MapShape: return "map shape";
         case ParamRole::PhiMax: return "phi-max";
         case ParamRole::Visibility: return "visibility";
+        case ParamRole::ImageSampling: return "image sampling";
+        case ParamRole::RayWalk: return "ray walk";
     }
     return "?";
 }

@@ -31,6 +31,8 @@ enum class ParamRole : uint8_t {
     MapShape,      // a builder option: changes what the maps hold
     PhiMax,        // viewing-angle restriction in degrees (`--phi-max`)
     Visibility,    // 0 = maps for all rays, 1 = exterior rays only (`--visibility`)
+    ImageSampling, // samples per pixel of the row's whole-image method (`image`); tracers ignore it
+    RayWalk,       // read by the per-ray tracer only, not by the row's whole-image method
 };
 std::string_view toString(ParamRole role);
 
@@ -91,6 +93,14 @@ struct StudySpec {
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
 };
+
+// How the renderer draws a row's image.
+enum class ImageMethod : uint8_t {
+    PerPixel,          // one primary ray per pixel through the row's tracer (render/renderer.h)
+    VisibilityCurves,  // the paper's own whole-image method (render/curves/curves_renderer.h)
+};
+
+class SphereSurface;  // sphere/sphere_surface.h
 
 // Parameter values by name, complete (defaults filled in) once validated by the registry.
 class ParamValues {
@@ -173,6 +183,12 @@ struct TechniqueInfo {
     std::span<const StudySpec> studies = {};
     // True for the reference every other row is judged against (exactly one row).
     bool reference = false;
+    // What `relief render` draws its image with.
+    ImageMethod image = ImageMethod::PerPixel;
+    // Its tracer on the displaced sphere (DESIGN §6, `--surface sphere`); null: the plane only
+    // (unless its image method draws the sphere itself).
+    Result<std::unique_ptr<Tracer>> (*createSphere)(std::shared_ptr<const SphereSurface> sphere,
+                                                    const ParamValues& params) = nullptr;
 };
 
 // The parameter of `info` with this role (the first), or null.

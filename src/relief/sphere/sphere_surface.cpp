@@ -1,10 +1,10 @@
-#include <relief/curves/sphere_surface.h>
+#include <relief/sphere/sphere_surface.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace relief::curves {
+namespace relief {
 
 namespace {
 constexpr double kPi = std::numbers::pi;
@@ -67,4 +67,4 @@ SphereSurface::Frame SphereSurface::frameAt(const dvec3& n) const {
     return f;
 }
 
-}  // namespace relief::curves
+}  // namespace relief

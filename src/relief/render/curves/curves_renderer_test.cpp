@@ -1,11 +1,10 @@
-// Visibility curves (issue 8): mappings, sampling, stepping on plane and sphere against the exact
-// references, and the sphere reference against brute-force marching.
+// The visibility-curve renderer (issue 8): mappings, sampling, stepping on plane and sphere
+// against the exact references (sphere/sphere_test.cpp checks the sphere's).
 #include <relief/core/generators.h>
-#include <relief/curves/curves_command.h>
-#include <relief/curves/plane_mapping.h>
-#include <relief/curves/sampling.h>
-#include <relief/curves/sphere_mapping.h>
-#include <relief/curves/sphere_reference.h>
+#include <relief/render/curves/curves_image.h>
+#include <relief/render/curves/plane_mapping.h>
+#include <relief/render/curves/sampling.h>
+#include <relief/render/curves/sphere_mapping.h>
 #include <relief/techniques/registry.h>
 
 #include <gtest/gtest.h>
@@ -72,23 +71,28 @@ TEST(CurvesSampling, RecurrenceSpacingAndInverse) {
     }
 }
 
-CurvesRenderRequest planeRequest(std::shared_ptr<const Surface> surface, float elevation,
-                                 double epsilon, int w = 96, int h = 72) {
-    CurvesRenderRequest r;
-    r.surface = std::move(surface);
-    r.view = orbit(elevation, 30.0f);
-    r.width = w;
-    r.height = h;
-    r.options.step.epsilon = epsilon;
-    return r;
+CurvesScene planeScene(std::shared_ptr<const Surface> surface, float elevation, int w = 96,
+                       int h = 72) {
+    CurvesScene scene;
+    scene.surface = std::move(surface);
+    scene.view = orbit(elevation, 30.0f);
+    scene.width = w;
+    scene.height = h;
+    return scene;
+}
+
+CurvesOptions withEpsilon(double epsilon) {
+    CurvesOptions options;
+    options.step.epsilon = epsilon;
+    return options;
 }
 
 // Jitter moves samples along their visibility line only: all samples of a render lie on as many
 // directions from CoP_v as there are curves, and the density is about n per pixel.
 TEST(CurvesSampling, SamplesStayOnTheirLinesAtTheRequestedDensity) {
     auto surface = makePlane("sine", 64, 64, 6.4f);
-    const CurvesRenderRequest r = planeRequest(surface, 40.2f, 0.25, 160, 120);
-    auto run = renderAndMeasure(r);
+    const CurvesScene r = planeScene(surface, 40.2f, 160, 120);
+    auto run = renderAndMeasure(r, withEpsilon(0.25));
     ASSERT_TRUE(run.ok()) << run.error().message;
     const ViewFrame view = ViewFrame::fromCamera(Camera(r.view, *surface, r.width, r.height));
     const dvec2 cop = PlaneMapping(view).copView();
@@ -117,7 +121,7 @@ TEST(CurvesPlane, CloseToExactForSmallEpsilon) {
     for (const char* generator : {"sine", "peaks6"}) {
         for (float elevation : {15.3f, 40.2f, 77.6f}) {
             auto surface = makePlane(generator, 64, 64, 6.4f);
-            auto run = renderAndMeasure(planeRequest(surface, elevation, 0.001));
+            auto run = renderAndMeasure(planeScene(surface, elevation), withEpsilon(0.001));
             ASSERT_TRUE(run.ok()) << run.error().message;
             const ErrorStats& s = run->stats;
             std::printf("[ curves   ] %-7s el %5.1f: %zu samples, mean |dt| %.2e, max %.3g, "
@@ -136,8 +140,8 @@ TEST(CurvesPlane, CloseToExactForSmallEpsilon) {
 
 TEST(CurvesPlane, CountsAddUp) {
     auto surface = makePlane("sine", 64, 64, 6.4f);
-    auto coarse = renderAndMeasure(planeRequest(surface, 40.2f, 0.25));
-    auto fine = renderAndMeasure(planeRequest(surface, 40.2f, 0.001));
+    auto coarse = renderAndMeasure(planeScene(surface, 40.2f), withEpsilon(0.25));
+    auto fine = renderAndMeasure(planeScene(surface, 40.2f), withEpsilon(0.001));
     ASSERT_TRUE(coarse.ok() && fine.ok());
     const StepCounts& c = coarse->result.counts;
     const StepCounts& f = fine->result.counts;
@@ -149,12 +153,28 @@ TEST(CurvesPlane, CountsAddUp) {
     EXPECT_LE(fine->stats.error.mean, coarse->stats.error.mean);
 }
 
+// The row's parameters are the image renderer's options (`relief render -t curves --param ...`).
+TEST(CurvesPlane, OptionsComeFromTheRow) {
+    const TechniqueInfo& row = *findTechnique("curves");
+    EXPECT_EQ(row.image, ImageMethod::VisibilityCurves);
+    auto params = resolveParams(row, {{"epsilon", 0.01}, {"samples", 4}, {"max-steps", 50}});
+    ASSERT_TRUE(params.ok());
+    const CurvesOptions o = curvesOptions(row, *params);
+    EXPECT_EQ(o.step.epsilon, 0.01);
+    EXPECT_EQ(o.samplesPerPixel, 4.0);
+    EXPECT_EQ(o.step.maxEvaluations, 50);
+    const CurvesOptions defaults = curvesOptions(row, *resolveParams(row, {}));
+    EXPECT_EQ(defaults.step.epsilon, 0.05);
+    EXPECT_EQ(defaults.samplesPerPixel, 2.0);
+    EXPECT_EQ(defaults.step.maxEvaluations, 200);
+}
+
 TEST(CurvesPlane, RejectsRepeatAndEyeBelowTheBase) {
     auto hf = std::make_shared<const Heightfield>(*generateHeightfield("sine", 32, 32));
     auto repeat = std::make_shared<const Surface>(hf, 3.0f, EdgeMode::Repeat);
-    EXPECT_FALSE(renderAndMeasure(planeRequest(repeat, 40.0f, 0.1)).ok());
+    EXPECT_FALSE(renderAndMeasure(planeScene(repeat, 40.0f), withEpsilon(0.1)).ok());
     auto clamp = std::make_shared<const Surface>(hf, 3.0f, EdgeMode::Clamp);
-    EXPECT_FALSE(renderAndMeasure(planeRequest(clamp, -20.0f, 0.1)).ok());
+    EXPECT_FALSE(renderAndMeasure(planeScene(clamp, -20.0f), withEpsilon(0.1)).ok());
 }
 
 TEST(CurvesSphereMapping, RoundTripsFrontAndBack) {
@@ -170,7 +190,9 @@ TEST(CurvesSphereMapping, RoundTripsFrontAndBack) {
         const auto front = m.toSphere(uv, true);
         ASSERT_TRUE(front.has_value());
         EXPECT_NEAR(front->theta, p.theta, 1e-7);
-        if (p.theta > 1e-3) EXPECT_NEAR(std::remainder(front->phi - p.phi, 2 * std::numbers::pi), 0.0, 1e-7);
+        if (p.theta > 1e-3) {
+            EXPECT_NEAR(std::remainder(front->phi - p.phi, 2 * std::numbers::pi), 0.0, 1e-7);
+        }
         // The back-facing intersection of the same eye ray projects to the same pixel.
         const auto back = m.toSphere(uv, false);
         ASSERT_TRUE(back.has_value());
@@ -185,67 +207,15 @@ TEST(CurvesSphereMapping, RoundTripsFrontAndBack) {
     }
 }
 
-std::shared_ptr<const SphereSurface> makeSphere(const char* generator, double radius, double depth) {
-    auto hf = std::make_shared<const Heightfield>(*generateHeightfield(generator, 64, 32, 1));
-    return std::make_shared<const SphereSurface>(hf, radius, depth);
-}
-
-// Brute force: fixed tiny steps along the ray from the enclosing sphere, then bisection.
-Hit bruteForceSphere(const SphereSurface& s, const Ray& ray, double step) {
-    const dvec3 o(ray.origin), d(ray.direction);
-    auto f = [&](double t) {
-        const dvec3 p = o + t * d;
-        return glm::length(p) - s.radius() - s.heightAt(glm::normalize(p));
-    };
-    const double far = glm::length(o) + s.maxRadius();
-    double prev = 0.0;
-    for (double t = 0.0; t < far; t += step) {
-        if (f(t) <= 0.0) {
-            double lo = prev, hi = t;
-            for (int k = 0; k < 60; ++k) (f(0.5 * (lo + hi)) > 0.0 ? lo : hi) = 0.5 * (lo + hi);
-            Hit h;
-            h.hit = true;
-            h.t = float(hi);
-            return h;
-        }
-        prev = t;
-    }
-    return Hit{};
-}
-
-TEST(CurvesSphereReference, AgreesWithBruteForceMarching) {
-    for (const char* generator : {"sine", "peaks6"}) {
-        auto sphere = makeSphere(generator, 12.0, 3.0);
-        const SphereReference reference(sphere);
-        std::mt19937 rng(11);
-        std::uniform_real_distribution<double> u(-1.0, 1.0);
-        int hits = 0;
-        for (int k = 0; k < 40; ++k) {
-            const dvec3 o = 40.0 * glm::normalize(dvec3(u(rng), u(rng), u(rng)));
-            const dvec3 target = 14.0 * dvec3(u(rng), u(rng), u(rng));
-            const Ray ray{vec3(o), vec3(glm::normalize(target - o)), kInfinity};
-            const Hit a = reference.trace(ray), b = bruteForceSphere(*sphere, ray, 2e-3);
-            ASSERT_EQ(a.hit, b.hit) << generator << " ray " << k;
-            if (a.hit) {
-                ++hits;
-                EXPECT_NEAR(a.t, b.t, 1e-3) << generator << " ray " << k;
-            }
-        }
-        EXPECT_GT(hits, 10);
-    }
-}
-
 TEST(CurvesSphere, CloseToTheReference) {
     auto hf = std::make_shared<const Heightfield>(*generateHeightfield("sine", 64, 32, 1));
-    CurvesRenderRequest r;
+    CurvesScene r;
     r.surface = std::make_shared<const Surface>(hf, 2.0f, EdgeMode::Clamp);
-    r.base = BaseSurface::Sphere;
-    r.radius = 12.0;
+    r.sphere = makeSphere(*r.surface, 12.0);
     r.view = orbit(20.0f, 10.0f, 2.0f);
     r.width = 96;
     r.height = 72;
-    r.options.step.epsilon = 0.001;
-    auto run = renderAndMeasure(r);
+    auto run = renderAndMeasure(r, withEpsilon(0.001));
     ASSERT_TRUE(run.ok()) << run.error().message;
     std::printf("[ curves   ] sphere: %zu samples, mean |dt| %.2e, wrong %.3f%%\n",
                 run->stats.pixels, run->stats.error.mean, 100.0 * run->stats.wrongRate());
@@ -254,29 +224,6 @@ TEST(CurvesSphere, CloseToTheReference) {
     // Wrong samples: silhouette rays whose hit lies past their closest approach to the centre,
     // where the stepping ends the curve (depth D/R = 1/6 here makes that band wide).
     EXPECT_LT(run->stats.wrongRate(), 0.015);
-}
-
-// The registry row's single-ray solver: walks the ray's curve; close to exact on rays from an
-// orbit camera.
-TEST(CurvesTracer, SingleRayWalkIsCloseToExact) {
-    auto surface = makePlane("peaks6", 64, 64, 6.4f);
-    auto curves = createTracer("curves", surface, {{"epsilon", 0.01}});
-    auto exact = createTracer("exact", surface);
-    ASSERT_TRUE(curves.ok() && exact.ok());
-    const Camera camera(orbit(30.0f, 20.0f), *surface, 48, 36);
-    const std::vector<Ray> rays = primaryRays(camera);
-    std::vector<Hit> a(rays.size()), b(rays.size());
-    (*curves)->traceBatch(rays, a);
-    (*exact)->traceBatch(rays, b);
-    size_t wrong = 0, both = 0;
-    double sum = 0.0;
-    for (size_t k = 0; k < rays.size(); ++k) {
-        if (a[k].hit != b[k].hit || (a[k].hit && std::abs(a[k].t - b[k].t) > 0.5f)) ++wrong;
-        else if (a[k].hit) ++both, sum += std::abs(a[k].t - b[k].t);
-    }
-    EXPECT_GT(both, rays.size() / 5);
-    EXPECT_LT(double(wrong) / double(rays.size()), 0.01);
-    EXPECT_LT(sum / double(both), 0.02);
 }
 
 }  // namespace

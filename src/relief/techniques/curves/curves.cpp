@@ -1,4 +1,4 @@
-#include <relief/curves/curves_tracer.h>
+#include <relief/techniques/curves/curves.h>
 
 #include <cmath>
 #include <limits>
@@ -113,6 +113,12 @@ Hit CurvesTracer::trace(const Ray& ray) const {
 namespace relief {
 
 Result<std::unique_ptr<Tracer>> createCurves(const TechniqueInput& input) {
+    // Samples per pixel are the image renderer's (relief render); refused rather than ignored.
+    for (const ParamSpec& spec : kCurvesParams)
+        if (spec.role == ParamRole::ImageSampling && input.params.get(spec.name) != spec.defaultValue)
+            return makeError(ErrorKind::BadArgument,
+                             "curves: parameter '{}' is the image renderer's (relief render); the "
+                             "per-ray tracer does not read it", spec.name);
     curves::StepParams params;
     params.epsilon = input.params.get("epsilon");
     params.maxEvaluations = input.params.getInt("max-steps");

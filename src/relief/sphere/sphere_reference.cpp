@@ -1,10 +1,10 @@
-#include <relief/curves/sphere_reference.h>
+#include <relief/sphere/sphere_reference.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-namespace relief::curves {
+namespace relief {
 
 namespace {
 
@@ -120,8 +120,4 @@ Hit SphereReference::trace(const Ray& ray) const {
     return hit;
 }
 
-std::unique_ptr<Tracer> makeSphereReferenceTracer(std::shared_ptr<const SphereSurface> sphere) {
-    return makeBatchTracer(SphereReference(std::move(sphere)));
-}
-
-}  // namespace relief::curves
+}  // namespace relief

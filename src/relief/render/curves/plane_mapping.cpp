@@ -1,4 +1,4 @@
-#include <relief/curves/plane_mapping.h>
+#include <relief/render/curves/plane_mapping.h>
 
 namespace relief::curves {
 

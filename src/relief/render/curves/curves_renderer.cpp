@@ -1,10 +1,9 @@
-#include <relief/curves/curves_renderer.h>
+#include <relief/render/curves/curves_renderer.h>
 
 #include <relief/core/parallel.h>
-#include <relief/curves/plane_mapping.h>
-#include <relief/curves/sampling.h>
-#include <relief/curves/sphere_mapping.h>
-#include <relief/curves/sphere_reference.h>
+#include <relief/render/curves/plane_mapping.h>
+#include <relief/render/curves/sampling.h>
+#include <relief/render/curves/sphere_mapping.h>
 
 #include <chrono>
 #include <cmath>
@@ -456,23 +455,27 @@ vec3 shadeSphere(const SphereSurface& sphere, const Shading& shading, const vec3
     return shadeLambert(shading, shadeAlbedo(sphere.grid(), shading, texel), normal, lit);
 }
 
-CurvesResult renderSphereExact(std::shared_ptr<const SphereSurface> sphere, const ViewFrame& view,
-                               const Shading& shading) {
+CurvesResult renderSpherePixels(const SphereSurface& sphere, const ViewFrame& view,
+                                const Tracer& tracer, const Shading& shading) {
     const auto start = std::chrono::steady_clock::now();
-    const SphereReference reference(sphere);
     CurvesResult result;
     result.color = ImageRgb8(view.width, view.height);
     result.hits = Image<Hit>(view.width, view.height);
     result.evaluationsPerSample = ImageF(view.width, view.height);
     parallelRanges(view.height, 1, [&](int64_t begin, int64_t end) {
-        for (int64_t y = begin; y < end; ++y)
+        std::vector<Ray> rays(size_t(view.width));
+        for (int64_t y = begin; y < end; ++y) {
+            for (int x = 0; x < view.width; ++x)
+                rays[size_t(x)] = view.ray(dvec2(x + 0.5, double(y) + 0.5));
+            const std::span<Hit> row(&result.hits.at(0, int(y)), size_t(view.width));
+            tracer.traceBatch(rays, row);
             for (int x = 0; x < view.width; ++x) {
-                const Hit h = reference.trace(view.ray(dvec2(x + 0.5, double(y) + 0.5)));
-                result.hits.at(x, int(y)) = h;
+                const Hit& h = row[size_t(x)];
                 result.evaluationsPerSample.at(x, int(y)) = float(h.steps);
                 result.color.at(x, int(y)) =
-                    toRgb8(h.hit ? shadeSphere(*sphere, shading, h.position) : shading.background);
+                    toRgb8(h.hit ? shadeSphere(sphere, shading, h.position) : shading.background);
             }
+        }
     });
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (int y = 0; y < view.height; ++y)

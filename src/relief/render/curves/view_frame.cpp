@@ -1,4 +1,4 @@
-#include <relief/curves/view_frame.h>
+#include <relief/render/curves/view_frame.h>
 
 #include <cmath>
 

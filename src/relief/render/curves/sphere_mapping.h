@@ -12,7 +12,7 @@
 //   tan²δ = B = ((u cos ψ − z_v sin ψ)² + v²)/(u sin ψ + z_v cos ψ)²,  φ = atan2(v, u cos ψ −
 //   z_v sin ψ),  cos θ = (B ± √(β²(B+1) − B))/(β(B+1)) with β = R/ρ (+ front, − back facing),
 // which is the paper's θ formula. Tests check the round trips and a direct 3D projection.
-#include <relief/curves/view_frame.h>
+#include <relief/render/curves/view_frame.h>
 
 #include <optional>
 

@@ -12,14 +12,13 @@
 // Where no such δ exceeds kMinStep (a ball that reaches a pole whose row is not constant: the
 // surface fans out there, sphere_surface.h), the march takes kMinStep and is exact only up to
 // features thinner than that. The crossing is then bisected to double precision.
-// Lives in curves/ beside the renderer it checks: it depends on SphereSurface only.
+// The `exact` row traces the sphere with it (TechniqueInfo::createSphere).
 #include <relief/core/math.h>
-#include <relief/curves/sphere_surface.h>
-#include <relief/techniques/technique.h>
+#include <relief/sphere/sphere_surface.h>
 
 #include <vector>
 
-namespace relief::curves {
+namespace relief {
 
 class SphereReference {
 public:
@@ -40,7 +39,4 @@ private:
     std::vector<std::vector<double>> m_rangeMax;  // sparse table over bands of texel y
 };
 
-// The reference as a registry-style Tracer (BatchTracer over SphereReference).
-std::unique_ptr<Tracer> makeSphereReferenceTracer(std::shared_ptr<const SphereSurface> sphere);
-
-}  // namespace relief::curves
+}  // namespace relief

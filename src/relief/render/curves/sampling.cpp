@@ -1,4 +1,4 @@
-#include <relief/curves/sampling.h>
+#include <relief/render/curves/sampling.h>
 
 #include <cmath>
 

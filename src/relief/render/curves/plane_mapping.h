@@ -4,7 +4,7 @@
 // S = [î_s ĵ_s O_s − eye] and a view-plane point is V·(u, v, 1) with V = [î_v ĵ_v O_v − eye]
 // (columns in world coordinates; (u, v) in pixels, (0,0) = top-left). Both name the same eye
 // ray, so (u, v, 1) ∝ Q·(s, t, 1) with Q = V⁻¹S, and (s, t, 1) ∝ Q'·(u, v, 1) with Q' = S⁻¹V.
-#include <relief/curves/view_frame.h>
+#include <relief/render/curves/view_frame.h>
 
 #include <glm/glm.hpp>
 

@@ -16,7 +16,7 @@
 
 #include <memory>
 
-namespace relief::curves {
+namespace relief {
 
 using glm::dmat3;
 using glm::dvec2;
@@ -53,4 +53,4 @@ private:
     std::shared_ptr<const Surface> m_grid;
 };
 
-}  // namespace relief::curves
+}  // namespace relief

@@ -1,4 +1,4 @@
-#include <relief/curves/sphere_mapping.h>
+#include <relief/render/curves/sphere_mapping.h>
 
 #include <cmath>
 

@@ -1,7 +1,8 @@
 #pragma once
 // curves — the visibility-curve displacement renderer of Fourquet, Cowan & Mann, "Geometric
 // Displacement on Plane and Sphere" (GI 2008), on the CPU, for the plane (the relief's box,
-// clamp mode) and the sphere (sphere_surface.h).
+// clamp mode) and the sphere (sphere/sphere_surface.h). The registry row `curves` draws its
+// images with it (TechniqueInfo::image); its stepping is the row's (techniques/curves/stepper.h).
 //
 // Every eye ray that can meet the relief lies in a vertical cutting plane through the eye (on the
 // sphere: a plane through the eye and the centre), whose image is a line through CoP_v. Along
@@ -21,10 +22,10 @@
 // samples along them; pixels that receive no sample take the mean of their neighbours (counted).
 #include <relief/core/error.h>
 #include <relief/core/image.h>
-#include <relief/curves/sphere_surface.h>
-#include <relief/curves/stepper.h>
-#include <relief/curves/view_frame.h>
+#include <relief/render/curves/view_frame.h>
 #include <relief/render/renderer.h>
+#include <relief/sphere/sphere_surface.h>
+#include <relief/techniques/curves/stepper.h>  // the row's stepping (layering: allow-listed)
 
 #include <vector>
 
@@ -61,10 +62,11 @@ Result<CurvesResult> renderCurvesPlane(const Surface& surface, const ViewFrame& 
 Result<CurvesResult> renderCurvesSphere(const SphereSurface& sphere, const ViewFrame& view,
                                         const Shading& shading, const CurvesOptions& options);
 
-// The sphere per pixel with the exact reference (sphere_reference.h): one ray through each pixel
-// centre, shaded like the curves samples; `samples` holds every pixel's ray.
-CurvesResult renderSphereExact(std::shared_ptr<const SphereSurface> sphere, const ViewFrame& view,
-                               const Shading& shading);
+// The sphere per pixel through a tracer of the sphere (e.g. exact's, sphere/sphere_reference.h):
+// one ray through each pixel centre, shaded like the curves samples; `samples` holds every
+// pixel's ray.
+CurvesResult renderSpherePixels(const SphereSurface& sphere, const ViewFrame& view,
+                                const Tracer& tracer, const Shading& shading);
 
 // Shading of a point of the displaced sphere (Lambert, colour and normal maps in texel space).
 vec3 shadeSphere(const SphereSurface& sphere, const Shading& shading, const vec3& position);
