@@ -33,6 +33,12 @@ struct ConeLimits {
     float stall = 0.1f;
 };
 
+// What cone/cone.glsl and the cone/cone_map.glsl it requires read (the row's glslConstants).
+inline constexpr GlslConstant kConeGlslConstants[] = {
+    {"kConeDecodeMargin", double(kConeDecodeMargin), false},
+    {"kConeStall", double(ConeLimits{}.stall), false},
+};
+
 class ConeTracer {
 public:
     ConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
