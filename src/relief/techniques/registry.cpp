@@ -41,6 +41,24 @@ constexpr VariantSpec kSafetyVariants[] = {
     {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
 };
 
+// Parameter sets that take the GLSL down another path (encodings, policies, variants).
+constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
+constexpr PathCase kConePathCases[] = {{"bits=16,sqrt=1"}, {"bits=8,variant=1"}};
+constexpr PathCase kRelaxedConePathCases[] = {{"bits=16,binary-steps=4"}};
+constexpr PathCase kQdmPathCases[] = {
+    {"max-distance=3,max-steps=20"},
+    {"height-ratio=0.5,convex-bound=0", true},
+};
+constexpr PathCase kSafetySdPathCases[] = {
+    {"isotropic=1,positive-distance=1"},
+    {"exterior=1", true},  // exterior-ray maps exist in clamp mode only
+};
+constexpr PathCase kSafetyCcPathCases[] = {
+    {"view-dependent=1,phi-max=-30"},
+    {"isotropic=1,max-steps=5"},
+    {"exterior=1,exterior-slope=1", true},
+};
+
 // clang-format off
 const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
@@ -59,7 +77,8 @@ const TechniqueInfo kTechniques[] = {
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
      .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl",
-     .glslConstants = kPyramidWalkGlslConstants, .variants = kQuadtreeVariants},
+     .glslConstants = kPyramidWalkGlslConstants, .variants = kQuadtreeVariants,
+     .pathCases = kQuadtreePathCases},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
@@ -74,29 +93,29 @@ const TechniqueInfo kTechniques[] = {
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
      .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl", .glslConstants = kConeGlslConstants,
-     .variants = kConeVariants},
+     .variants = kConeVariants, .pathCases = kConePathCases},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
      .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
-     .variants = kRelaxedConeVariants},
+     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
-     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl"},
+     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl", .pathCases = kQdmPathCases},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
      .buildMaps = buildSafetySdMaps, .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants},
+     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
      .buildMaps = buildSafetyCcMaps, .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants},
+     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
