@@ -106,5 +106,7 @@ Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input);
 // Validates `variant`, `bits` and `sqrt` (shared with relaxed-cone).
 Status checkConeParams(const ParamValues& params, std::string_view technique);
+// The row's check: the parameters, and input.maps (decoded, then dropped) when given.
+Status checkCone(const TechniqueInput& input);
 
 }  // namespace relief
