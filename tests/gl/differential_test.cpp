@@ -95,6 +95,29 @@ std::vector<const TechniqueInfo*> glTechniques() {
     return list;
 }
 
+// `rays` traced by the row's C++ tracer into `cpu` and by its GLSL twin into `gl`, both with the
+// maps built once here (which also checks that `create` accepts its own maps).
+void traceBothSides(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+                    const ParamValues& params, const std::vector<Ray>& rays,
+                    std::vector<Hit>& cpu, std::vector<Hit>& gl) {
+    TechniqueInput input{std::move(surface), params};
+    TechniqueMaps maps;
+    if (info.buildMaps) {
+        auto built = info.buildMaps(input);
+        ASSERT_TRUE(built) << built.error().message;
+        maps = std::move(*built);
+        input.maps = &maps;
+    }
+    auto cpuTracer = info.create(input);
+    ASSERT_TRUE(cpuTracer) << cpuTracer.error().message;
+    auto glTracer = createGlTracer(info, input);
+    ASSERT_TRUE(glTracer) << glTracer.error().message;
+    cpu.assign(rays.size(), Hit{});
+    gl.assign(rays.size(), Hit{});
+    traceAll(**cpuTracer, rays, cpu);
+    (*glTracer)->traceBatch(rays, gl);
+}
+
 class CpuVsGl : public ::testing::TestWithParam<const TechniqueInfo*> {};
 
 TEST_P(CpuVsGl, AgreeOnFixedRays) {
@@ -110,21 +133,8 @@ TEST_P(CpuVsGl, AgreeOnFixedRays) {
     for (const Scene& scene : scenes()) {
         ASSERT_TRUE(scene.surface);
         const std::vector<Ray> rays = differentialRays(*scene.surface, 11);
-        TechniqueInput input{scene.surface, *params};
-        TechniqueMaps maps;
-        if (info.buildMaps) {
-            auto built = info.buildMaps(input);
-            ASSERT_TRUE(built) << built.error().message;
-            maps = std::move(*built);
-            input.maps = &maps;
-        }
-        auto cpu = info.create(input);
-        ASSERT_TRUE(cpu) << cpu.error().message;
-        auto gpu = createGlTracer(info, input);
-        ASSERT_TRUE(gpu) << gpu.error().message;
-        std::vector<Hit> cpuHit(rays.size()), glHit(rays.size()), refHit;
-        traceAll(**cpu, rays, cpuHit);
-        (*gpu)->traceBatch(rays, glHit);
+        std::vector<Hit> cpuHit, glHit, refHit;
+        ASSERT_NO_FATAL_FAILURE(traceBothSides(info, scene.surface, *params, rays, cpuHit, glHit));
         if (checkFirstHit) {
             auto reference = createTracer("exact", scene.surface);
             ASSERT_TRUE(reference) << reference.error().message;
@@ -211,21 +221,8 @@ TEST(CpuVsGlParameters, AgreeOnFixedRays) {
             ASSERT_TRUE(overrides) << overrides.error().message;
             auto params = resolveParams(info, *overrides);
             ASSERT_TRUE(params) << params.error().message;
-            TechniqueInput input{surface, *params};
-            TechniqueMaps maps;
-            if (info.buildMaps) {
-                auto built = info.buildMaps(input);
-                ASSERT_TRUE(built) << built.error().message;
-                maps = std::move(*built);
-                input.maps = &maps;
-            }
-            auto cpu = info.create(input);
-            ASSERT_TRUE(cpu) << cpu.error().message;
-            auto gpu = createGlTracer(info, input);
-            ASSERT_TRUE(gpu) << gpu.error().message;
-            std::vector<Hit> a(rays.size()), b(rays.size());
-            traceAll(**cpu, rays, a);
-            (*gpu)->traceBatch(rays, b);
+            std::vector<Hit> a, b;
+            ASSERT_NO_FATAL_FAILURE(traceBothSides(info, surface, *params, rays, a, b)) << label;
             size_t differ = 0, stepsDiffer = 0;
             for (size_t k = 0; k < rays.size(); ++k) {
                 differ += a[k].hit != b[k].hit ||

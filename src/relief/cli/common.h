@@ -2,6 +2,7 @@
 // Option groups shared by the subcommands (DESIGN §3 names) and the glue that turns them into a
 // Surface and a Tracer.
 #include <relief/core/error.h>
+#include <relief/gl/gl_tracer.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/surface/surface.h>
@@ -52,12 +53,15 @@ Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options
                                                    std::shared_ptr<const Heightfield> hf);
 // Parameter overrides from --max-steps and --param NAME=VALUE.
 Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& options);
-// The technique's tracer, with its maps from --maps FILE when given (checked against the surface).
+// The technique's tracer on --backend, with its maps from --maps FILE when given (checked
+// against the surface).
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
                                            std::shared_ptr<const Surface> surface);
-// The GLSL tracer of a technique (cli/gl_backend.cpp).
-Result<std::unique_ptr<Tracer>> createGlBackendTracer(const TechniqueInfo& info,
-                                                      const TechniqueInput& input);
+// The same for a row and parameter values already at hand (the viewer): its maps from `mapsPath`
+// when not empty, the registry's techniqueInput(), then createTracer(backend, ...).
+Result<std::unique_ptr<Tracer>> makeTracer(
+    const TechniqueInfo& info, const std::vector<std::pair<std::string, double>>& overrides,
+    const std::string& mapsPath, Backend backend, std::shared_ptr<const Surface> surface);
 
 // The one place where errors become messages and exit codes (0 ok, 1 bad arguments, 2 I/O,
 // 3 invalid input, 4 runtime/GL, 5 unsupported).
