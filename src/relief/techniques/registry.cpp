@@ -41,8 +41,9 @@ constexpr VariantSpec kSafetyVariants[] = {
     {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
 };
 
-// A row's `check` from its map loader: the loader's errors on baked maps (input.maps), its
-// result dropped. Without input.maps there is nothing to check: buildMaps makes them right.
+// A row's `check` from the loader its create uses: the loader's errors on baked maps
+// (input.maps), its result dropped (for safety-sd/-cc the decoded map with its march options, no
+// Tracer). Without input.maps there is nothing to check: buildMaps makes them right.
 template <auto Load>
 Status checkMaps(const TechniqueInput& input) {
     if (!input.maps) return {};
