@@ -71,6 +71,38 @@ TEST(GlCamera, MeshCoversWhatExactHits) {
     EXPECT_GT(mesh->msPerFrame, 0.0);
 }
 
+// One GlCameraTracer times and traces any number of frames (the bench's GL rows): its frames are
+// those of the one-shot traceGlCamera, for two cameras in turn.
+TEST(GlCamera, OneCameraTracerTimesAndTraces) {
+    RELIEF_REQUIRE_GL();
+    auto surface = testing::generatedSurface("peaks6", 48, 40, 0.15f, EdgeMode::Clamp, 7);
+    const TechniqueInfo& info = *findTechnique("quadtree");
+    const TechniqueInput input = defaultInput(info, surface);
+    auto tracer = createGlCameraTracer(info, input);
+    ASSERT_TRUE(tracer) << tracer.error().message;
+    for (const OrbitView& view : {OrbitView{40.2f, 30.0f, 1.0f, 45.0f},
+                                  OrbitView{20.0f, 200.0f, 0.8f, 50.0f}}) {
+        const GlCamera camera = gl::cameraUniforms(Camera(view, *surface, 48, 32));
+        auto timing = (*tracer)->timeFrames(camera, GlTimingOptions{2, 1});
+        ASSERT_TRUE(timing) << timing.error().message;
+        EXPECT_EQ(timing->frames, 2);
+        EXPECT_GT(timing->hitFraction, 0.1);
+        auto frame = (*tracer)->traceFrame(camera);
+        ASSERT_TRUE(frame) << frame.error().message;
+        auto once = traceGlCamera(info, input, camera);
+        ASSERT_TRUE(once) << once.error().message;
+        ASSERT_EQ(frame->size(), once->size());
+        size_t hits = 0;
+        for (size_t k = 0; k < frame->size(); ++k) {
+            ASSERT_EQ((*frame)[k].hit, (*once)[k].hit) << k;
+            ASSERT_EQ((*frame)[k].t, (*once)[k].t) << k;
+            ASSERT_EQ((*frame)[k].steps, (*once)[k].steps) << k;
+            hits += (*frame)[k].hit;
+        }
+        EXPECT_NEAR(double(hits) / double(frame->size()), timing->hitFraction, 1e-12);
+    }
+}
+
 // DESIGN §8 GPU time: ms per 640×480 frame for every GLSL technique and the mesh. Disabled in CI;
 // run with --gtest_also_run_disabled_tests (RELIEF_GL_TIMING_SIZE=N sets the peaks6 N×N map).
 TEST(GlCamera, DISABLED_Timing640x480) {

@@ -95,6 +95,29 @@ std::vector<const TechniqueInfo*> glTechniques() {
     return list;
 }
 
+// `rays` traced by the row's C++ tracer into `cpu` and by its GLSL twin into `gl`, both with the
+// maps built once here (which also checks that `create` accepts its own maps).
+void traceBothSides(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+                    const ParamValues& params, const std::vector<Ray>& rays,
+                    std::vector<Hit>& cpu, std::vector<Hit>& gl) {
+    TechniqueInput input{std::move(surface), params};
+    TechniqueMaps maps;
+    if (info.buildMaps) {
+        auto built = info.buildMaps(input);
+        ASSERT_TRUE(built) << built.error().message;
+        maps = std::move(*built);
+        input.maps = &maps;
+    }
+    auto cpuTracer = info.create(input);
+    ASSERT_TRUE(cpuTracer) << cpuTracer.error().message;
+    auto glTracer = createGlTracer(info, input);
+    ASSERT_TRUE(glTracer) << glTracer.error().message;
+    cpu.assign(rays.size(), Hit{});
+    gl.assign(rays.size(), Hit{});
+    traceAll(**cpuTracer, rays, cpu);
+    (*glTracer)->traceBatch(rays, gl);
+}
+
 class CpuVsGl : public ::testing::TestWithParam<const TechniqueInfo*> {};
 
 TEST_P(CpuVsGl, AgreeOnFixedRays) {
@@ -110,21 +133,8 @@ TEST_P(CpuVsGl, AgreeOnFixedRays) {
     for (const Scene& scene : scenes()) {
         ASSERT_TRUE(scene.surface);
         const std::vector<Ray> rays = differentialRays(*scene.surface, 11);
-        TechniqueInput input{scene.surface, *params};
-        TechniqueMaps maps;
-        if (info.buildMaps) {
-            auto built = info.buildMaps(input);
-            ASSERT_TRUE(built) << built.error().message;
-            maps = std::move(*built);
-            input.maps = &maps;
-        }
-        auto cpu = info.create(input);
-        ASSERT_TRUE(cpu) << cpu.error().message;
-        auto gpu = createGlTracer(info, input);
-        ASSERT_TRUE(gpu) << gpu.error().message;
-        std::vector<Hit> cpuHit(rays.size()), glHit(rays.size()), refHit;
-        traceAll(**cpu, rays, cpuHit);
-        (*gpu)->traceBatch(rays, glHit);
+        std::vector<Hit> cpuHit, glHit, refHit;
+        ASSERT_NO_FATAL_FAILURE(traceBothSides(info, scene.surface, *params, rays, cpuHit, glHit));
         if (checkFirstHit) {
             auto reference = createTracer("exact", scene.surface);
             ASSERT_TRUE(reference) << reference.error().message;
@@ -192,63 +202,40 @@ TEST_P(CpuVsGl, AgreeOnFixedRays) {
     EXPECT_LE(double(fetchesDiffer), 0.01 * double(total));
 }
 
-// Parameters that change the GLSL's path (encodings, policies, variants), on one small scene with
-// maps built once: the two sides must agree bit for bit up to float-edge rays, as above.
+// Parameters that change the GLSL's path (each GLSL row's pathCases: encodings, policies,
+// variants), on one small scene with maps built once: the two sides must agree bit for bit up to
+// float-edge rays, as above. Repeat mode, or clamp for the cases that need it (exterior rays).
 TEST(CpuVsGlParameters, AgreeOnFixedRays) {
     RELIEF_REQUIRE_GL();
-    struct Case {
-        std::string_view name;
-        std::vector<std::pair<std::string, double>> overrides;
-        EdgeMode edge = EdgeMode::Repeat;  // exterior-ray maps exist in clamp mode only
-    };
-    const std::vector<Case> cases = {{"quadtree", {{"ascend", 0}}},
-                                     {"quadtree", {{"max-steps", 6}}},
-                                     {"cone", {{"bits", 16}, {"sqrt", 1}}},
-                                     {"cone", {{"bits", 8}, {"variant", 1}}},
-                                     {"relaxed-cone", {{"bits", 16}, {"binary-steps", 4}}},
-                                     {"safety-sd", {{"isotropic", 1}, {"positive-distance", 1}}},
-                                     {"safety-cc", {{"view-dependent", 1}, {"phi-max", -30}}},
-                                     {"safety-cc", {{"isotropic", 1}, {"max-steps", 5}}},
-                                     {"qdm", {{"max-distance", 3}, {"max-steps", 20}}},
-                                     {"qdm", {{"height-ratio", 0.5}, {"convex-bound", 0}}, EdgeMode::Clamp},
-                                     {"safety-sd", {{"exterior", 1}}, EdgeMode::Clamp},
-                                     {"safety-cc", {{"exterior", 1}, {"exterior-slope", 1}}, EdgeMode::Clamp}};
-    for (const Case& c : cases) {
-        const auto surface = testing::generatedSurface("peaks6", 40, 32, 0.15f, c.edge, 5);
-        ASSERT_TRUE(surface);
-        const std::vector<Ray> rays = differentialRays(*surface, 23);
-        const TechniqueInfo* info = findTechnique(c.name);
-        ASSERT_TRUE(info && !info->glsl.empty()) << c.name;
-        auto params = resolveParams(*info, c.overrides);
-        ASSERT_TRUE(params) << params.error().message;
-        TechniqueInput input{surface, *params};
-        TechniqueMaps maps;
-        if (info->buildMaps) {
-            auto built = info->buildMaps(input);
-            ASSERT_TRUE(built) << built.error().message;
-            maps = std::move(*built);
-            input.maps = &maps;
+    size_t cases = 0;
+    for (const TechniqueInfo& info : techniques()) {
+        if (info.glsl.empty()) continue;
+        for (const PathCase& c : info.pathCases) {
+            ++cases;
+            const EdgeMode edge = c.clampOnly ? EdgeMode::Clamp : EdgeMode::Repeat;
+            const auto surface = testing::generatedSurface("peaks6", 40, 32, 0.15f, edge, 5);
+            ASSERT_TRUE(surface);
+            const std::vector<Ray> rays = differentialRays(*surface, 23);
+            const std::string label = fmt::format("{} {}", info.name, c.params);
+            auto overrides = parseParamList(c.params);
+            ASSERT_TRUE(overrides) << overrides.error().message;
+            auto params = resolveParams(info, *overrides);
+            ASSERT_TRUE(params) << params.error().message;
+            std::vector<Hit> a, b;
+            ASSERT_NO_FATAL_FAILURE(traceBothSides(info, surface, *params, rays, a, b)) << label;
+            size_t differ = 0, stepsDiffer = 0;
+            for (size_t k = 0; k < rays.size(); ++k) {
+                differ += a[k].hit != b[k].hit ||
+                          (a[k].hit && std::abs(double(a[k].t) - double(b[k].t)) > 1e-3);
+                stepsDiffer += a[k].steps != b[k].steps || a[k].fetches != b[k].fetches;
+            }
+            std::printf("%s: %zu rays, hit or t differ %zu, steps or fetches differ %zu\n",
+                        label.c_str(), rays.size(), differ, stepsDiffer);
+            EXPECT_LE(double(differ), 1e-3 * double(rays.size())) << label;
+            EXPECT_LE(double(stepsDiffer), 0.01 * double(rays.size())) << label;
         }
-        auto cpu = info->create(input);
-        ASSERT_TRUE(cpu) << cpu.error().message;
-        auto gpu = createGlTracer(*info, input);
-        ASSERT_TRUE(gpu) << gpu.error().message;
-        std::vector<Hit> a(rays.size()), b(rays.size());
-        traceAll(**cpu, rays, a);
-        (*gpu)->traceBatch(rays, b);
-        size_t differ = 0, stepsDiffer = 0;
-        for (size_t k = 0; k < rays.size(); ++k) {
-            differ += a[k].hit != b[k].hit ||
-                      (a[k].hit && std::abs(double(a[k].t) - double(b[k].t)) > 1e-3);
-            stepsDiffer += a[k].steps != b[k].steps || a[k].fetches != b[k].fetches;
-        }
-        std::string label(c.name);
-        for (const auto& [key, value] : c.overrides) label += fmt::format(" {}={}", key, value);
-        std::printf("%s: %zu rays, hit or t differ %zu, steps or fetches differ %zu\n",
-                    label.c_str(), rays.size(), differ, stepsDiffer);
-        EXPECT_LE(double(differ), 1e-3 * double(rays.size())) << label;
-        EXPECT_LE(double(stepsDiffer), 0.01 * double(rays.size())) << label;
     }
+    EXPECT_GT(cases, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, CpuVsGl, ::testing::ValuesIn(glTechniques()),

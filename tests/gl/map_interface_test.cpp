@@ -62,12 +62,37 @@ TEST(GlMaps, BakedMapsAreUsedOrRefused) {
     EXPECT_EQ(gl.hit, cpu.hit);
     EXPECT_NEAR(gl.t, cpu.t, 1e-3f);
 
-    // Maps of another surface: the CPU factory's check refuses them, naming the array.
+    // Maps of another surface: the row's check refuses them, naming the array.
     auto refused = createGlTracer(info, TechniqueInput{other, *params, &*maps});
     ASSERT_FALSE(refused);
     EXPECT_EQ(refused.error().kind, ErrorKind::InvalidInput);
     EXPECT_NE(refused.error().message.find("level0"), std::string::npos)
         << refused.error().message;
+}
+
+// Every GLSL row with maps checks baked ones as its create does (TechniqueInfo::check): its own
+// maps are taken, those of a surface of another size are refused as invalid input.
+TEST(GlMaps, EveryRowChecksBakedMaps) {
+    RELIEF_REQUIRE_GL();
+    const auto small = testing::generatedSurface("peaks6", 16, 12, 0.15f, EdgeMode::Clamp, 2);
+    const auto other = testing::generatedSurface("peaks6", 20, 12, 0.15f, EdgeMode::Clamp, 2);
+    for (const TechniqueInfo& info : techniques()) {
+        if (info.glsl.empty() || !info.buildMaps) continue;
+        SCOPED_TRACE(std::string(info.name));
+        EXPECT_NE(info.check, nullptr);
+        auto params = resolveParams(info, {});
+        ASSERT_TRUE(params);
+        auto maps = info.buildMaps(TechniqueInput{small, *params});
+        ASSERT_TRUE(maps) << maps.error().message;
+        auto taken = createGlTracer(info, TechniqueInput{small, *params, &*maps});
+        EXPECT_TRUE(taken) << taken.error().message;
+        auto refused = createGlTracer(info, TechniqueInput{other, *params, &*maps});
+        ASSERT_FALSE(refused);
+        EXPECT_EQ(refused.error().kind, ErrorKind::InvalidInput) << refused.error().message;
+        auto cpu = info.create(TechniqueInput{other, *params, &*maps});
+        ASSERT_FALSE(cpu);
+        EXPECT_EQ(cpu.error().message, refused.error().message);
+    }
 }
 
 }  // namespace

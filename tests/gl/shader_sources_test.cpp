@@ -4,6 +4,7 @@
 #include "gl_test_support.h"
 
 #include <relief/gl/program.h>
+#include <relief/gl/shader_interface.h>
 #include <relief/gl/shader_sources.h>
 #include <relief/techniques/registry.h>
 
@@ -45,6 +46,25 @@ TEST(GlShaders, RegistryRowsAndTechniqueShadersMatch) {
                         std::string_view::npos);
         EXPECT_TRUE(used) << file.path << " is embedded but no registry row has it as glsl";
     }
+}
+
+// A row's program declares the constants its row carries (glslConstants), and no other row's.
+TEST(GlShaders, InterfaceDeclaresTheRowsConstantsOnly) {
+    for (const TechniqueInfo& info : techniques()) {
+        const std::string text = glslInterface(&info);
+        for (const GlslConstant& c : info.glslConstants)
+            EXPECT_NE(text.find(fmt::format("const {} {} = ", c.integer ? "int" : "float", c.name)),
+                      std::string::npos)
+                << info.name << ": " << c.name;
+    }
+    const std::string cone = glslInterface(findTechnique("cone"));
+    EXPECT_NE(cone.find("const float kConeStall = 0.100000001;"), std::string::npos) << cone;
+    EXPECT_NE(cone.find("const float kConeDecodeMargin = 9.53674316e-07;"), std::string::npos);
+    EXPECT_EQ(cone.find("kWalkSlack"), std::string::npos);
+    const std::string maxmip = glslInterface(findTechnique("maxmip"));
+    EXPECT_NE(maxmip.find("const int kAscentAncestor = 2;"), std::string::npos) << maxmip;
+    EXPECT_EQ(maxmip.find("kFarStep"), std::string::npos);
+    EXPECT_EQ(glslInterface().find("kConeStall"), std::string::npos);
 }
 
 TEST(GlShaders, EveryTechniqueProgramCompiles) {

@@ -178,17 +178,12 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
 }
 
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
-void warnAboutView(const TechniqueOptions& options, const std::vector<std::string>& names,
-                   const Camera& camera) {
-    const std::vector<Ray> rays = primaryRays(camera);
-    for (const std::string& name : names) {
-        const TechniqueInfo& info = *findTechnique(name);
-        if (!info.viewWarning) continue;
-        const auto params = resolveParams(info, orFail(parameterOverrides(options)));
-        if (!params) continue;  // makeTracer has already reported bad parameters
-        const std::string warning = info.viewWarning(*params, rays);
-        if (!warning.empty()) std::fprintf(stderr, "relief: warning: %s: %s\n", name.c_str(), warning.c_str());
-    }
+void warnAboutView(const TechniqueInfo& info, const ParamValues& params, const Camera& camera) {
+    if (!info.viewWarning) return;
+    const std::string warning = info.viewWarning(params, primaryRays(camera));
+    if (!warning.empty())
+        std::fprintf(stderr, "relief: warning: %s: %s\n", std::string(info.name).c_str(),
+                     warning.c_str());
 }
 
 // The rows that can be drawn on the sphere: a tracer of it, or an image method that draws it.
@@ -315,20 +310,16 @@ void runRender(const RenderOptions& o) {
         throw CommandFailed{{ErrorKind::Unsupported,
                              "--edge: the sphere wraps in longitude and clamps at the poles by "
                              "construction; --edge is the plane's"}};
-    const auto overrides = orFail(parameterOverrides(o.technique));
     std::vector<const TechniqueInfo*> infos;
+    for (const std::string& name : names) infos.push_back(orFail(lookupTechnique(name)));
+    // Options and parameters a row lacks are left out for it (an error when no row has them).
+    const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
     std::vector<ParamValues> params;
     bool readsMaps = false;
-    for (const std::string& name : names) {
-        const TechniqueInfo* info = findTechnique(name);
-        if (!info)
-            throw CommandFailed{makeError(ErrorKind::BadArgument,
-                                          "unknown technique '{}' (known: {})", name,
-                                          techniqueNames())};
-        orFail(checkDrawable(o, *info, overrides));
-        params.push_back(orFail(resolveParams(*info, overrides)));
-        infos.push_back(info);
-        readsMaps |= info->buildMaps && info->image == ImageMethod::PerPixel;
+    for (size_t k = 0; k < infos.size(); ++k) {
+        orFail(checkDrawable(o, *infos[k], overrides[k]));
+        params.push_back(orFail(resolveParams(*infos[k], overrides[k])));
+        readsMaps |= infos[k]->buildMaps && infos[k]->image == ImageMethod::PerPixel;
     }
     if (!o.technique.mapsPath.empty() && !readsMaps)
         throw CommandFailed{makeError(ErrorKind::Unsupported, "--maps: {} read{} no maps",
@@ -351,9 +342,8 @@ void runRender(const RenderOptions& o) {
             tracers[k] = orFail(infos[k]->createSphere(sphereSurface, params[k]));
             continue;
         }
-        TechniqueOptions t = o.technique;
-        t.name = names[k];
-        tracers[k] = orFail(makeTracer(t, surface));
+        tracers[k] = orFail(makeTracer(*infos[k], overrides[k], o.technique.mapsPath,
+                                       backendOf(o.technique), surface));
         planeNames.push_back(names[k]);
     }
     const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
@@ -367,7 +357,8 @@ void runRender(const RenderOptions& o) {
     const Camera camera(o.view, *surface, size.x, size.y);
     std::optional<Image<Hit>> reference;  // the plane's, per pixel, for the per-pixel rows
     if (!planeNames.empty()) {
-        warnAboutView(o.technique, planeNames, camera);
+        for (size_t k = 0; k < infos.size(); ++k)
+            if (tracers[k] && !sphere) warnAboutView(*infos[k], params[k], camera);
         auto exact = orFail(createTracer(referenceTechnique().name, surface));
         reference = tracePrimary(camera, *exact);
     }

@@ -27,18 +27,14 @@ struct ViewOptions {
 };
 
 // The viewer rebuilds tracers with other techniques and parameters; each goes through makeTracer
-// with the parameters spelled as --param NAME=VALUE, so it is checked and built as on the CLI.
+// with the panel's values as they are, so it is checked and built as on the CLI.
 viewer::TracerFactory glTracerFactory(std::shared_ptr<const Surface> surface,
                                       std::string mapsPath) {
     return [surface = std::move(surface), mapsPath = std::move(mapsPath)](
                const TechniqueInfo& info, const ParamValues& params) {
-        TechniqueOptions options;
-        options.name = std::string(info.name);
-        options.mapsPath = mapsPath;
-        options.backend = "gl";
-        for (const auto& [name, value] : params.all())
-            options.params.push_back(fmt::format("{}={}", name, value));
-        return makeTracer(options, surface);
+        const std::vector<std::pair<std::string, double>> values(params.all().begin(),
+                                                                 params.all().end());
+        return makeTracer(info, values, mapsPath, Backend::Gl, surface);
     };
 }
 
@@ -65,7 +61,7 @@ void runView(const ViewOptions& o) {
     ThreadLimit limit(o.threads);
     viewer::ViewerOptions v;
     v.technique = &viewableTechnique(o.technique.name);
-    v.params = orFail(resolveParams(*v.technique, orFail(parameterOverrides(o.technique))));
+    v.params = orFail(resolveParams(*v.technique, orFail(parameterOverrides(*v.technique, o.technique))));
     v.surface = orFail(makeSurface(o.surface, orFail(loadHeightfield(o.surface))));
     v.sourceName = o.surface.source;
     if (!o.colorPath.empty()) v.color = orFail(loadColorImage(o.colorPath));

@@ -145,12 +145,7 @@ std::string namesOf(std::span<const TechniqueInfo* const> infos) {
 
 }  // namespace
 
-Result<Overrides> parameterOverrides(const TechniqueOptions& o) {
-    auto overrides = namedParams(o);
-    if (!overrides) return overrides.error();
-    if (o.maxSteps) overrides->insert(overrides->begin(), {"max-steps", double(*o.maxSteps)});
-    return overrides;
-}
+Backend backendOf(const TechniqueOptions& o) { return o.backend == "gl" ? Backend::Gl : Backend::Cpu; }
 
 Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo* const> infos,
                                                   const TechniqueOptions& o) {
@@ -215,16 +210,22 @@ Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
     if (!info) return info.error();
     auto overrides = parameterOverrides(**info, o);
     if (!overrides) return overrides.error();
+    return makeTracer(**info, *overrides, o.mapsPath,
+                      backendOf(o), std::move(surface));
+}
+
+Result<std::unique_ptr<Tracer>> makeTracer(
+    const TechniqueInfo& info, const std::vector<std::pair<std::string, double>>& overrides,
+    const std::string& mapsPath, Backend backend, std::shared_ptr<const Surface> surface) {
     std::shared_ptr<const MapFile> maps;
-    if (!o.mapsPath.empty() && (*info)->buildMaps) {
-        auto loaded = loadMaps(o.mapsPath, *surface);
+    if (!mapsPath.empty() && info.buildMaps) {
+        auto loaded = loadMaps(mapsPath, *surface);
         if (!loaded) return loaded.error();
         maps = *loaded;  // the cache in loadMaps outlives every tracer
     }
-    auto input = techniqueInput(**info, surface, *overrides, maps.get(), o.mapsPath);
+    auto input = techniqueInput(info, std::move(surface), overrides, maps.get(), mapsPath);
     if (!input) return input.error();
-    if (o.backend == "gl") return createGlBackendTracer(**info, *input);
-    return (*info)->create(*input);
+    return createTracer(backend, info, *input);
 }
 
 int report(const Error& error) {

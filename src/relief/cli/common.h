@@ -2,6 +2,7 @@
 // Option groups shared by the subcommands (DESIGN §3 names) and the glue that turns them into a
 // Surface and a Tracer.
 #include <relief/core/error.h>
+#include <relief/gl/gl_tracer.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/surface/surface.h>
@@ -53,8 +54,7 @@ Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions&
 Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
                                                    std::shared_ptr<const Heightfield> hf);
 using Overrides = std::vector<std::pair<std::string, double>>;
-// Parameter overrides from --max-steps and --param NAME=VALUE (by name; see below).
-Result<Overrides> parameterOverrides(const TechniqueOptions& options);
+Backend backendOf(const TechniqueOptions& options);
 // The overrides of each technique from the role options (--max-steps, --phi-max, --visibility:
 // the parameter with that role) and --param NAME=VALUE. What one technique lacks is left out for
 // it, and is an error only when none of `infos` has it.
@@ -63,12 +63,15 @@ Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo*
 Result<Overrides> parameterOverrides(const TechniqueInfo& info, const TechniqueOptions& options);
 // --phi-max and --visibility on a command (trace, render, bake, view).
 void addRoleOptions(CLI::App& app, TechniqueOptions& options);
-// The technique's tracer, with its maps from --maps FILE when given (checked against the surface).
+// The technique's tracer on --backend, with its maps from --maps FILE when given (checked
+// against the surface).
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& options,
                                            std::shared_ptr<const Surface> surface);
-// The GLSL tracer of a technique (cli/gl_backend.cpp).
-Result<std::unique_ptr<Tracer>> createGlBackendTracer(const TechniqueInfo& info,
-                                                      const TechniqueInput& input);
+// The same for a row and parameter values already at hand (the viewer): its maps from `mapsPath`
+// when not empty, the registry's techniqueInput(), then createTracer(backend, ...).
+Result<std::unique_ptr<Tracer>> makeTracer(
+    const TechniqueInfo& info, const std::vector<std::pair<std::string, double>>& overrides,
+    const std::string& mapsPath, Backend backend, std::shared_ptr<const Surface> surface);
 
 // The one place where errors become messages and exit codes (0 ok, 1 bad arguments, 2 I/O,
 // 3 invalid input, 4 runtime/GL, 5 unsupported).

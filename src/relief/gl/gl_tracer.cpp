@@ -27,7 +27,7 @@ int groupsFor(int count, int groupSize) { return (count + groupSize - 1) / group
 
 // Frames timed one by one with glFinish, after untimed warm-up frames.
 template <class DrawFrame>
-GlFrameTiming timeFrames(const GlTimingOptions& options, DrawFrame&& drawFrame) {
+GlFrameTiming timedFrames(const GlTimingOptions& options, DrawFrame&& drawFrame) {
     for (int k = 0; k < options.warmupFrames; ++k) {
         drawFrame();
         glFinish();
@@ -48,41 +48,40 @@ GlFrameTiming timeFrames(const GlTimingOptions& options, DrawFrame&& drawFrame) 
     return timing;
 }
 
-class GlTracer final : public Tracer {
+// One program: main_rays.glsl (ray batches, the Tracer) or main_camera.glsl (camera frames).
+enum class Entry { Rays, Camera };
+
+class GlTracer final : public Tracer, public GlCameraTracer {
 public:
     bool prefersOneBatch() const override { return true; }
     static Result<std::unique_ptr<GlTracer>> create(const TechniqueInfo& info,
-                                                    const TechniqueInput& input,
-                                                    bool rayProgram) {
+                                                    const TechniqueInput& input, Entry entry) {
         if (info.glsl.empty())
             return makeError(ErrorKind::Unsupported,
                              "technique '{}' has no GLSL tracer (its registry row has no glsl)",
                              info.name);
         if (!input.surface) return makeError(ErrorKind::BadArgument, "GL backend: no surface");
-        // Maps: the baked ones, else built now (once: the CPU factory below takes them too).
-        auto tracer = std::unique_ptr<GlTracer>(new GlTracer());
-        const TechniqueMaps* maps = nullptr;
-        if (input.maps) {
-            tracer->m_ownMaps = *input.maps;  // the camera program may be compiled later
-            maps = &tracer->m_ownMaps;
-        } else if (info.buildMaps) {
-            auto built = info.buildMaps(input);
-            if (!built) return built.error();
-            tracer->m_ownMaps = std::move(*built);
-            maps = &tracer->m_ownMaps;
+        // What the row's create would refuse (input.params are resolved already).
+        if (info.check)
+            if (Status status = info.check(input); !status) return status.error();
+        // Maps: the baked ones, else built now; read only here (uploaded, and their layout
+        // compiled into the program).
+        const TechniqueMaps* maps = input.maps;
+        TechniqueMaps built;
+        if (!maps && info.buildMaps) {
+            auto made = info.buildMaps(input);
+            if (!made) return made.error();
+            built = std::move(*made);
+            maps = &built;
         }
-        // The CPU factory validates the parameters (and the maps) exactly as the CPU backend does.
-        TechniqueInput checked = input;
-        checked.maps = maps;
-        auto cpu = info.create(checked);
-        if (!cpu) return cpu.error();
+        auto tracer = std::unique_ptr<GlTracer>(new GlTracer());
         auto uniforms = traceUniforms(info, input.params);
         if (!uniforms) return uniforms.error();
         auto context = EglContext::shared();
         if (!context) return context.error();
 
         tracer->m_context = *context;
-        tracer->m_maps = maps;
+        tracer->m_hasMaps = maps != nullptr;
         tracer->m_surface = input.surface;
         tracer->m_info = &info;
         tracer->m_traceUniforms = *uniforms;
@@ -107,11 +106,10 @@ public:
                                      GL_STATIC_DRAW);
         }
         uploadBlock(tracer->m_surfaceUbo, surfaceUniforms(*input.surface));
-        if (rayProgram) {
-            auto program = tracer->compile("main_rays.glsl");
-            if (!program) return program.error();
-            tracer->m_rayProgram = std::move(*program);
-        }
+        auto program = tracer->compile(
+            entry == Entry::Rays ? "main_rays.glsl" : "main_camera.glsl", maps);
+        if (!program) return program.error();
+        tracer->m_program = std::move(*program);
         if (std::string error = takeGlError(); !error.empty())
             return makeError(ErrorKind::Runtime, "GL backend: setting up '{}' failed: {}",
                              info.name, error);
@@ -121,8 +119,7 @@ public:
     ~GlTracer() override {
         if (!m_context) return;  // failed before any GL object was made
         EglContext::Scope scope(*m_context);
-        m_rayProgram.reset();
-        m_cameraProgram.reset();
+        m_program.reset();
         m_heights = {};
         m_mapData = {};
         m_surfaceUbo = {};
@@ -147,7 +144,7 @@ public:
             uploadBlock(m_traceUbo, uniforms);
             bindBuffers();
             glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kRaysBinding, m_rays.id());
-            glUseProgram(m_rayProgram.id());
+            glUseProgram(m_program.id());
             glDispatchCompute(GLuint(groupsFor(int(count), kLocalSize)), 1, 1);
             glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
             m_hitRecords.resize(count);
@@ -163,10 +160,11 @@ public:
         }
     }
 
-    Result<GlFrameTiming> timeCamera(const GlCamera& camera, const GlTimingOptions& options) {
+    Result<GlFrameTiming> timeFrames(const GlCamera& camera,
+                                     const GlTimingOptions& options) override {
         EglContext::Scope scope(*m_context);
         if (Status s = prepareCamera(camera); !s) return s.error();
-        GlFrameTiming timing = timeFrames(options, [&] { dispatchCamera(camera); });
+        GlFrameTiming timing = timedFrames(options, [&] { dispatchCamera(camera); });
         const std::vector<HitRecord> records = readCameraHits(camera);
         double steps = 0.0, hitCount = 0.0;
         for (const HitRecord& r : records) {
@@ -182,7 +180,7 @@ public:
         return timing;
     }
 
-    Result<std::vector<Hit>> traceCamera(const GlCamera& camera) {
+    Result<std::vector<Hit>> traceFrame(const GlCamera& camera) override {
         EglContext::Scope scope(*m_context);
         if (Status s = prepareCamera(camera); !s) return s.error();
         dispatchCamera(camera);
@@ -198,12 +196,12 @@ public:
 private:
     GlTracer() = default;
 
-    Result<GlProgram> compile(std::string_view entry) const {
+    Result<GlProgram> compile(std::string_view entry, const TechniqueMaps* maps) const {
         return computeProgram(fmt::format("{} ({})", m_info->name, entry),
                               {"common_types.glsl", "common_surface.glsl",
                                "common_cell_intersect.glsl", "common_camera.glsl", m_info->glsl,
                                entry},
-                              m_info, m_maps);
+                              m_info, maps);
     }
 
     void bindBuffers() const {
@@ -212,25 +210,20 @@ private:
         glBindBufferBase(GL_UNIFORM_BUFFER, kCameraBinding, m_cameraUbo.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHeightsBinding, m_heights.id());
         glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kHitsBinding, m_hits.id());
-        if (m_maps) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMapsBinding, m_mapData.id());
+        if (m_hasMaps) glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMapsBinding, m_mapData.id());
     }
 
     Status prepareCamera(const GlCamera& camera) {
         if (camera.width < 1 || camera.height < 1)
             return makeError(ErrorKind::BadArgument, "GL backend: camera image is {}×{}",
                              camera.width, camera.height);
-        if (!m_cameraProgram.id()) {
-            auto program = compile("main_camera.glsl");
-            if (!program) return program.error();
-            m_cameraProgram = std::move(*program);
-        }
         uploadBlock(m_cameraUbo, camera);
         TraceUniforms uniforms = m_traceUniforms;
         uniforms.rayCount = camera.width * camera.height;
         uploadBlock(m_traceUbo, uniforms);
         m_hits.ensure(size_t(camera.width) * size_t(camera.height) * sizeof(HitRecord));
         bindBuffers();
-        glUseProgram(m_cameraProgram.id());
+        glUseProgram(m_program.id());
         return {};
     }
 
@@ -250,10 +243,8 @@ private:
     std::shared_ptr<const Surface> m_surface;
     const TechniqueInfo* m_info = nullptr;
     TraceUniforms m_traceUniforms;
-    // The maps in use (&m_ownMaps: a copy of input.maps or the ones built), null for none.
-    const TechniqueMaps* m_maps = nullptr;
-    TechniqueMaps m_ownMaps;
-    GlProgram m_rayProgram, m_cameraProgram;
+    bool m_hasMaps = false;  // m_mapData holds them
+    GlProgram m_program;     // of the Entry it was created for
     // Mutable: traceBatch is const, and every use holds the context's Scope (its mutex).
     mutable GlBuffer m_heights, m_mapData, m_surfaceUbo, m_traceUbo, m_cameraUbo, m_rays, m_hits;
     mutable std::vector<RayRecord> m_rayRecords;
@@ -338,23 +329,35 @@ Result<std::string> glBackendDescription() {
 
 Result<std::unique_ptr<Tracer>> createGlTracer(const TechniqueInfo& info,
                                                const TechniqueInput& input) {
-    auto tracer = GlTracer::create(info, input, true);
+    auto tracer = GlTracer::create(info, input, Entry::Rays);
     if (!tracer) return tracer.error();
     return std::unique_ptr<Tracer>(std::move(*tracer));
 }
 
+Result<std::unique_ptr<Tracer>> createTracer(Backend backend, const TechniqueInfo& info,
+                                             const TechniqueInput& input) {
+    return backend == Backend::Gl ? createGlTracer(info, input) : info.create(input);
+}
+
+Result<std::unique_ptr<GlCameraTracer>> createGlCameraTracer(const TechniqueInfo& info,
+                                                             const TechniqueInput& input) {
+    auto tracer = GlTracer::create(info, input, Entry::Camera);
+    if (!tracer) return tracer.error();
+    return std::unique_ptr<GlCameraTracer>(std::move(*tracer));
+}
+
 Result<GlFrameTiming> timeGlFrame(const TechniqueInfo& info, const TechniqueInput& input,
                                   const GlCamera& camera, const GlTimingOptions& options) {
-    auto tracer = GlTracer::create(info, input, false);
+    auto tracer = createGlCameraTracer(info, input);
     if (!tracer) return tracer.error();
-    return (*tracer)->timeCamera(camera, options);
+    return (*tracer)->timeFrames(camera, options);
 }
 
 Result<std::vector<Hit>> traceGlCamera(const TechniqueInfo& info, const TechniqueInput& input,
                                        const GlCamera& camera) {
-    auto tracer = GlTracer::create(info, input, false);
+    auto tracer = createGlCameraTracer(info, input);
     if (!tracer) return tracer.error();
-    return (*tracer)->traceCamera(camera);
+    return (*tracer)->traceFrame(camera);
 }
 
 Result<GlFrameTiming> timeRasterizedMesh(const Surface& surface, const GlCamera& camera,
@@ -418,7 +421,7 @@ Result<GlFrameTiming> timeRasterizedMesh(const Surface& surface, const GlCamera&
     glBindVertexArray(vertexArray.id());
     glBindBufferBase(GL_UNIFORM_BUFFER, kMeshBinding, uniforms.id());
     const GLsizei indexCount = GLsizei(mesh.indices.size());
-    GlFrameTiming timing = timeFrames(options, [&] {
+    GlFrameTiming timing = timedFrames(options, [&] {
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         glDrawElements(GL_TRIANGLES, indexCount, GL_UNSIGNED_INT, nullptr);
     });

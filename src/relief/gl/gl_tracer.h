@@ -8,8 +8,10 @@
 // main_camera.glsl for camera frames whose rays are made on the GPU). The heights are
 // Surface::paddedHeights() in a storage buffer, so the GPU reads the same numbers as the CPU.
 //
-// Maps: a technique with maps (TechniqueInfo::buildMaps) gets input.maps when given, else the
-// maps built once by info.buildMaps (and handed to info.create too). Every MapArray goes into
+// Parameters and maps are checked as on the CPU, without a CPU tracer: input.params resolved
+// (resolveParams, techniqueInput), then the row's `check` (what its create refuses beyond that,
+// baked input.maps included). A technique with maps (TechniqueInfo::buildMaps) gets input.maps
+// when given, else the maps built once by info.buildMaps. Every MapArray goes into
 // one storage buffer at kMapsBinding, and the GLSL reads them through declarations generated
 // from the TechniqueMaps themselves (shader_interface.h: kMap<Name>, mapTexel, sizes, channels),
 // so a map's layout is spelled only by the C++ that builds it.
@@ -28,12 +30,19 @@ using GlCamera = gl::CameraUniforms;
 // or the error that names every EGL platform tried.
 Result<std::string> glBackendDescription();
 
-// A Tracer that runs info.glsl on the GPU. Parameters are validated the same way as on the CPU
-// (info.create runs once). traceBatch uploads the rays, dispatches, and reads hit, t, position,
-// steps and fetches back. Calls from several threads are serialized on the one GL context, so
-// large batches are much faster than many small ones.
+// A Tracer that runs info.glsl on the GPU. traceBatch uploads the rays, dispatches, and reads
+// hit, t, position, steps and fetches back. Calls from several threads are serialized on the one
+// GL context, so large batches are much faster than many small ones.
 Result<std::unique_ptr<Tracer>> createGlTracer(const TechniqueInfo& info,
                                                const TechniqueInput& input);
+
+// Where rays are traced (`--backend cpu|gl`).
+enum class Backend : uint8_t { Cpu, Gl };
+
+// The one place that chooses the backend (CLI, viewer): info.create on the CPU, createGlTracer
+// on the GL backend; `input` as the registry's techniqueInput() makes it.
+Result<std::unique_ptr<Tracer>> createTracer(Backend backend, const TechniqueInfo& info,
+                                             const TechniqueInput& input);
 
 struct GlTimingOptions {
     int frames = 10;       // timed frames
@@ -50,19 +59,33 @@ struct GlFrameTiming {
     std::string device;        // glBackendDescription()
 };
 
-// Times camera frames: the primary rays are generated on the GPU from `camera` and traced with
-// info.glsl; nothing is read back between frames.
+// One technique on the GPU for camera frames (the bench's GL rows): the heights and maps are
+// uploaded and the camera program (main_camera.glsl) compiled once, at creation; then frames are
+// timed and traced as often as asked, with any camera. The primary rays are generated on the GPU.
+class GlCameraTracer {
+public:
+    virtual ~GlCameraTracer() = default;
+    // Frames timed with glFinish after each; nothing is read back between frames.
+    virtual Result<GlFrameTiming> timeFrames(const GlCamera& camera,
+                                             const GlTimingOptions& options) = 0;
+    // One frame read back: camera.width × camera.height hits, row 0 at the top; pixel (px, py)
+    // is the ray gl::cameraRay(camera, px, py).
+    virtual Result<std::vector<Hit>> traceFrame(const GlCamera& camera) = 0;
+};
+
+// Checks and maps as createGlTracer.
+Result<std::unique_ptr<GlCameraTracer>> createGlCameraTracer(const TechniqueInfo& info,
+                                                             const TechniqueInput& input);
+
+// One-shot forms of GlCameraTracer (each creates one): timeFrames and traceFrame.
 Result<GlFrameTiming> timeGlFrame(const TechniqueInfo& info, const TechniqueInput& input,
                                   const GlCamera& camera, const GlTimingOptions& options = {});
-
-// One camera frame on the GPU, read back: camera.width × camera.height hits, row 0 at the top;
-// pixel (px, py) is the ray gl::cameraRay(camera, px, py).
 Result<std::vector<Hit>> traceGlCamera(const TechniqueInfo& info, const TechniqueInput& input,
                                        const GlCamera& camera);
 
 // The rasterized peer: S as a triangle mesh (two triangles per cell along the lower diagonal,
 // plus the side walls in clamp mode), one indexed draw into an offscreen framebuffer of the
-// camera's size, with depth test and flat shading; timed like timeGlFrame.
+// camera's size, with depth test and flat shading; timed like GlCameraTracer::timeFrames.
 Result<GlFrameTiming> timeRasterizedMesh(const Surface& surface, const GlCamera& camera,
                                          const GlTimingOptions& options = {});
 

@@ -1,9 +1,5 @@
 #include <relief/gl/shader_interface.h>
 
-#include <relief/techniques/cone/cone.h>
-#include <relief/techniques/quadtree/pyramid_walk.h>
-#include <relief/techniques/safety_common/safety_march.h>
-
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -183,17 +179,10 @@ std::string glslInterface(const TechniqueInfo* info, const TechniqueMaps* maps) 
     text += constant("kRepeatTravelFactor", Surface::kRepeatTravelFactor);
     text += constant("kFloatEpsilon", std::numeric_limits<float>::epsilon());
     text += constant("kIntMax", std::numeric_limits<int>::max());
-    // Constants of the techniques' tracers (pyramid_walk.h, safety_march.h, cone.h).
-    text += constant("kAscentNone", int(Ascent::None));
-    text += constant("kAscentParent", int(Ascent::Parent));
-    text += constant("kAscentAncestor", int(Ascent::Ancestor));
-    text += constant("kWalkSlack", kWalkSlack);
-    text += constant("kLeafFetches", kLeafFetches);
-    text += constant("kMinCenterlines", safety::kMinCenterlines);
-    text += constant("kFarStep", safety::kFarStep);
-    text += constant("kConeDecodeMargin", kConeDecodeMargin);
-    text += constant("kConeStall", ConeLimits{}.stall);
     if (info) {
+        // The row's own constants (TechniqueInfo::glslConstants), defined in its C++ headers.
+        for (const GlslConstant& c : info->glslConstants)
+            text += c.integer ? constant(c.name, int(c.value)) : constant(c.name, float(c.value));
         for (size_t k = 0; k < info->params.size(); ++k)
             text += constant(glslParamName(info->params[k].name), int(k));
     }

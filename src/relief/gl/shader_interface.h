@@ -1,7 +1,8 @@
 #pragma once
 // Everything that crosses the C++/GLSL boundary: uniform blocks, buffer records, binding points
 // and constants. Each is defined here once; glslInterface() generates the GLSL declarations that
-// every program starts with, so the shaders never spell a layout or a constant themselves.
+// every program starts with, so the shaders never spell a layout or a constant themselves. A
+// technique's own constants come from its registry row (TechniqueInfo::glslConstants).
 #include <relief/gl/std140.h>
 #include <relief/surface/surface.h>
 #include <relief/techniques/technique.h>
@@ -126,8 +127,9 @@ std::vector<float> packMaps(const TechniqueMaps& maps);
 std::string glslMapInterface(const TechniqueMaps* maps);
 
 // The GLSL text every program starts with (after #version): constants, the records and the
-// uniform blocks. With `info`, also one `const int kParam<Name> = index;` per parameter; with
-// `maps`, the map declarations (glslMapInterface).
+// uniform blocks. With `info`, also the row's glslConstants (`const int NAME = V;` or
+// `const float NAME = V;`) and one `const int kParam<Name> = index;` per parameter; with `maps`,
+// the map declarations (glslMapInterface).
 std::string glslInterface(const TechniqueInfo* info = nullptr,
                           const TechniqueMaps* maps = nullptr);
 

@@ -51,6 +51,34 @@ Result<std::unique_ptr<Tracer>> createExactSphere(std::shared_ptr<const SphereSu
     return makeBatchTracer(SphereReference(std::move(sphere)));
 }
 
+// A row's `check` from the loader its create uses: the loader's errors on baked maps
+// (input.maps), its result dropped (for safety-sd/-cc the decoded map with its march options, no
+// Tracer). Without input.maps there is nothing to check: buildMaps makes them right.
+template <auto Load>
+Status checkMaps(const TechniqueInput& input) {
+    if (!input.maps) return {};
+    auto loaded = Load(input);
+    return loaded ? Status() : Status(loaded.error());
+}
+
+// Parameter sets that take the GLSL down another path (encodings, policies, variants).
+constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
+constexpr PathCase kConePathCases[] = {{"bits=16,sqrt=1"}, {"bits=8,variant=1"}};
+constexpr PathCase kRelaxedConePathCases[] = {{"bits=16,binary-steps=4"}};
+constexpr PathCase kQdmPathCases[] = {
+    {"max-distance=3,max-steps=20"},
+    {"height-ratio=0.5,convex-bound=0", true},
+};
+constexpr PathCase kSafetySdPathCases[] = {
+    {"isotropic=1,positive-distance=1"},
+    {"exterior=1", true},  // exterior-ray maps exist in clamp mode only
+};
+constexpr PathCase kSafetyCcPathCases[] = {
+    {"view-dependent=1,phi-max=-30"},
+    {"isotropic=1,max-steps=5"},
+    {"exterior=1,exterior-slope=1", true},
+};
+
 // The built-in rows. A function-local table, so that a row registered by another translation
 // unit's static initializer (a plug-in, a test) never sees it uninitialized.
 std::span<const TechniqueInfo> builtinRows() {
@@ -59,7 +87,7 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
-     .glsl = "exact/exact.glsl", .reference = true, .createSphere = createExactSphere},
+     .check = checkExact, .glsl = "exact/exact.glsl", .reference = true, .createSphere = createExactSphere},
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
@@ -71,39 +99,50 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
-     .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl", .variants = kQuadtreeVariants},
+     .buildMaps = buildQuadtreeMaps, .check = checkMaps<maxPyramidFor>,
+     .glsl = "quadtree/quadtree.glsl", .glslConstants = kPyramidWalkGlslConstants,
+     .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
-     .buildMaps = buildMaxmipMaps, .glsl = "maxmip/maxmip.glsl"},
+     .buildMaps = buildMaxmipMaps, .check = checkMaps<maxPyramidFor>,
+     .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",
      .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
      .create = createQuadtreeOriented, .buildMaps = buildQuadtreeOrientedMaps,
-     .glsl = "quadtree_oriented/quadtree_oriented.glsl"},
+     .check = checkMaps<orientedMapsFor>, .glsl = "quadtree_oriented/quadtree_oriented.glsl",
+     .glslConstants = kPyramidWalkGlslConstants},
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
-     .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl", .variants = kConeVariants},
+     .buildMaps = buildConeMaps, .check = checkCone, .glsl = "cone/cone.glsl",
+     .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
-     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps,
-     .glsl = "relaxed_cone/relaxed_cone.glsl", .variants = kRelaxedConeVariants},
+     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .check = checkRelaxedCone,
+     .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
+     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
-     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl"},
+     .buildMaps = buildQdmMaps, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
+     .pathCases = kQdmPathCases},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
-     .buildMaps = buildSafetySdMaps, .viewWarning = safety::viewWarning,
-     .glsl = "safety_sd/safety_sd.glsl", .variants = kSafetyVariants},
+     .buildMaps = buildSafetySdMaps, .check = checkMaps<makeSafetySdTracer>,
+     .viewWarning = safety::viewWarning,
+     .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
+     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
-     .buildMaps = buildSafetyCcMaps, .viewWarning = safety::viewWarning,
-     .glsl = "safety_cc/safety_cc.glsl", .variants = kSafetyVariants},
+     .buildMaps = buildSafetyCcMaps, .check = checkMaps<makeSafetyCcTracer>,
+     .viewWarning = safety::viewWarning,
+     .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
+     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,

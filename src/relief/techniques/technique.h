@@ -167,6 +167,10 @@ struct TechniqueInfo {
     Result<std::unique_ptr<Tracer>> (*create)(const TechniqueInput& input);
     // For `relief bake`: the technique's maps as named arrays; null when it has none.
     Result<TechniqueMaps> (*buildMaps)(const TechniqueInput& input) = nullptr;
+    // What `create` refuses beyond resolveParams (parameter combinations, and input.maps when
+    // given: sizes, channels, what they were baked with), without building a tracer: the GL
+    // backend traces with the row's GLSL and checks through this. Null: nothing more to check.
+    Status (*check)(const TechniqueInput& input) = nullptr;
     // Optional view check for the renderer: a warning when these primary rays fall outside what
     // the technique's maps were built for (e.g. a viewing-angle restriction), else empty.
     std::string (*viewWarning)(const ParamValues& params, std::span<const Ray> rays) = nullptr;

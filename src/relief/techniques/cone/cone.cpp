@@ -26,6 +26,14 @@ Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input) {
     return makeBatchTracer(ConeTracer(input.surface, std::move(*map), limits));
 }
 
+Status checkCone(const TechniqueInput& input) {
+    if (Status status = checkConeParams(input.params, "cone"); !status.ok()) return status;
+    if (!input.maps) return {};
+    const int variant = input.params.getInt("variant");
+    auto map = coneMapFor(input, "cone", coneKind(variant), variant);
+    return map ? Status() : Status(map.error());
+}
+
 Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "cone"); !status.ok()) return status.error();
     const int variant = input.params.getInt("variant");

@@ -33,6 +33,12 @@ struct ConeLimits {
     float stall = 0.1f;
 };
 
+// What cone/cone.glsl and the cone/cone_map.glsl it requires read (the row's glslConstants).
+inline constexpr GlslConstant kConeGlslConstants[] = {
+    {"kConeDecodeMargin", double(kConeDecodeMargin), false},
+    {"kConeStall", double(ConeLimits{}.stall), false},
+};
+
 class ConeTracer {
 public:
     ConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
@@ -100,5 +106,7 @@ Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input);
 // Validates `variant`, `bits` and `sqrt` (shared with relaxed-cone).
 Status checkConeParams(const ParamValues& params, std::string_view technique);
+// The row's check: the parameters, and input.maps (decoded, then dropped) when given.
+Status checkCone(const TechniqueInput& input);
 
 }  // namespace relief

@@ -107,6 +107,10 @@ float safeApexHeight(const Surface& surface, int i, int j);
 // The texels as stored at `encoding` (rounded towards the safe side), and back. Decoding 16/8-bit
 // codes widens the rounding margin by this much (also the GLSL decode, cone/cone_map.glsl).
 inline constexpr float kConeDecodeMargin = 1.0f / float(1 << 20);
+// What cone/cone_map.glsl reads (relaxed-cone's glslConstants; cone's row adds kConeStall).
+inline constexpr GlslConstant kConeMapGlslConstants[] = {
+    {"kConeDecodeMargin", double(kConeDecodeMargin), false},
+};
 MapArray encodeCones(const Surface& surface, const std::vector<vec2>& cones,
                      const ConeEncoding& encoding);
 ConeMap decodeCones(const Surface& surface, const MapArray& array, const ConeEncoding& encoding);

@@ -78,4 +78,6 @@ inline constexpr ParamSpec kExactParams[] = {
      ParamRole::IterationCap},
 };
 Result<std::unique_ptr<Tracer>> createExact(const TechniqueInput& input);
+// The reference never stops early: a cap (max-steps) is refused.
+Status checkExact(const TechniqueInput& input);
 }  // namespace relief

@@ -22,6 +22,7 @@
 // would then be walked in the wrong row of cells (seen at 4096², fixed, and kept in the tests).
 #include <relief/surface/cell_intersect.h>
 #include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/technique.h>
 
 #include <algorithm>
 #include <bit>
@@ -235,6 +236,15 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 }
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
+
+// What quadtree/pyramid_walk.glsl and the three walks' GLSL read (their rows' glslConstants).
+inline constexpr GlslConstant kPyramidWalkGlslConstants[] = {
+    {"kAscentNone", double(int(Ascent::None)), true},
+    {"kAscentParent", double(int(Ascent::Parent)), true},
+    {"kAscentAncestor", double(int(Ascent::Ancestor)), true},
+    {"kWalkSlack", double(kWalkSlack), false},
+    {"kLeafFetches", double(kLeafFetches), true},
+};
 
 // Along one axis, the child half (low or high) of [lo, lo + 2·half) that holds the ray at t:
 // decided by when the ray crosses the middle (the reference's t). A truncated node's nominal

@@ -21,6 +21,15 @@ Result<std::unique_ptr<Tracer>> createRelaxedCone(const TechniqueInput& input) {
     return makeBatchTracer(RelaxedConeTracer(input.surface, std::move(*map), limits));
 }
 
+Status checkRelaxedCone(const TechniqueInput& input) {
+    if (Status status = checkConeParams(input.params, "relaxed-cone"); !status.ok())
+        return status;
+    if (!input.maps) return {};
+    const int variant = input.params.getInt("variant");
+    auto map = coneMapFor(input, "relaxed-cone", relaxedKind(variant), variant);
+    return map ? Status() : Status(map.error());
+}
+
 Result<TechniqueMaps> buildRelaxedConeMaps(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "relaxed-cone"); !status.ok())
         return status.error();

@@ -118,5 +118,7 @@ inline constexpr ParamSpec kRelaxedConeParams[] = {
 };
 Result<std::unique_ptr<Tracer>> createRelaxedCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildRelaxedConeMaps(const TechniqueInput& input);
+// The row's check: the parameters, and input.maps (decoded, then dropped) when given.
+Status checkRelaxedCone(const TechniqueInput& input);
 
 }  // namespace relief

@@ -32,6 +32,11 @@ struct MarchOptions {
 // Fewer centerlines than this inside the box (near-vertical rays): the exact walk is cheaper.
 inline constexpr int kMinCenterlines = 3;
 inline constexpr int kFarStep = 1 << 20;
+// What safety_common/safety_march.glsl and safety_cc/safety_cc.glsl read (glslConstants).
+inline constexpr GlslConstant kSafetyMarchGlslConstants[] = {
+    {"kMinCenterlines", double(kMinCenterlines), true},
+    {"kFarStep", double(kFarStep), true},
+};
 
 // Does a ray with this direction satisfy the viewing-angle restriction the maps were built for
 // (§6.2.5: elevation angle below φ_max)? A hair stricter than the build, which includes the
