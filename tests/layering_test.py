@@ -46,22 +46,6 @@ ALLOWED = [
      "curves/ moves to techniques/curves/ on another branch"),
     ("bench/bench_exact_embree.cpp", "tests/brute_force.h",
      "bench/ is being replaced by src/relief/bench/; until then it borrows the test oracle"),
-    # Shared machinery still in one row's folder (to move to techniques/common/).
-    ("src/relief/gl/shader_interface.cpp", "src/relief/techniques/quadtree/pyramid_walk.h",
-     "the pyramid walk is shared by three rows, still in quadtree/"),
-    ("src/relief/techniques/maxmip/maxmip.h", "src/relief/techniques/quadtree/pyramid_walk.h",
-     "the pyramid walk is shared by three rows, still in quadtree/"),
-    ("src/relief/techniques/quadtree_oriented/quadtree_oriented.h",
-     "src/relief/techniques/quadtree/pyramid_walk.h",
-     "the pyramid walk is shared by three rows, still in quadtree/"),
-    ("src/relief/techniques/*", "src/relief/techniques/quadtree/max_pyramid.h",
-     "the max pyramid serves five rows, still in quadtree/"),
-    ("src/relief/techniques/quadtree/quadtree_maps.cpp", "src/relief/techniques/maxmip/maxmip.h",
-     "the max pyramid's baked form is shared with maxmip"),
-    ("src/relief/techniques/*", "src/relief/techniques/cone/cone_common.h",
-     "the cone map serves cone, relaxed-cone and qdm, still in cone/"),
-    ("src/relief/techniques/relaxed_cone/relaxed_cone.cpp", "src/relief/techniques/cone/cone.h",
-     "checkConeParams is shared by cone and relaxed-cone"),
     ("src/relief/techniques/relaxed_cone/relaxed_cone.h", "src/relief/techniques/exact/exact.h",
      "shadow rays take the reference walk"),
     # Test helpers living in src/ (to move to tests/support/).
@@ -115,7 +99,8 @@ def violations_of(root, path, lineno, text, target):
     if target.startswith("tests/"):
         if not is_test:
             found.append("tests: non-test code includes from tests/")
-        elif not target.startswith("tests/support/") and os.path.dirname(target) != os.path.dirname(path):
+        elif (not target.startswith("tests/support/") and
+              os.path.dirname(target) != os.path.dirname(path)):
             found.append("tests: test helpers live in tests/support/ (<support/...>)")
         return found
     if tmod not in LEVEL:

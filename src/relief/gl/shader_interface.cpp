@@ -1,7 +1,7 @@
 #include <relief/gl/shader_interface.h>
 
 #include <relief/techniques/cone/cone.h>
-#include <relief/techniques/quadtree/pyramid_walk.h>
+#include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/safety_common/safety_march.h>
 
 #include <algorithm>

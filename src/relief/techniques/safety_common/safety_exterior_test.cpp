@@ -241,7 +241,8 @@ auto distanceSteps(int extra) {
 
 auto coneSteps() {
     return [](const Surface& s, const BuildOptions& o) {
-        auto map = std::make_shared<const ConeMap>(buildConeMap(s, buildDistanceMap(s, o), o));
+        auto map =
+            std::make_shared<const CylinderConeMap>(buildConeMap(s, buildDistanceMap(s, o), o));
         const ConeShape shape(map);
         return [shape](int cls, int i, int j, float z, float rise) {
             return std::min(shape.step(cls, i, j, z, rise), 1 << 16);

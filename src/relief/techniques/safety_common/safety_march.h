@@ -77,7 +77,7 @@ private:
 // safety_cc.h), s_d = the ray's rise per centerline.
 class ConeShape {
 public:
-    explicit ConeShape(std::shared_ptr<const ConeMap> map) : m_map(std::move(map)) {}
+    explicit ConeShape(std::shared_ptr<const CylinderConeMap> map) : m_map(std::move(map)) {}
     int step(int cls, int i, int j, float z, float slope) const {
         const ConeTexel& c = m_map->at(cls, i, j);
         const float above = z - c.z0;
@@ -86,10 +86,10 @@ public:
         if (closing <= 0.0f) return kFarStep;  // the ray rises at least as fast as the cone
         return std::max(c.r, int(std::min(above / closing, float(kFarStep))));
     }
-    const ConeMap& map() const { return *m_map; }
+    const CylinderConeMap& map() const { return *m_map; }
 
 private:
-    std::shared_ptr<const ConeMap> m_map;
+    std::shared_ptr<const CylinderConeMap> m_map;
 };
 
 template <class Shape>

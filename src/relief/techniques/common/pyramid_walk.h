@@ -21,7 +21,7 @@
 // the origin a position within an ulp of an edge rounds onto it, and a ray running along the edge
 // would then be walked in the wrong row of cells (seen at 4096², fixed, and kept in the tests).
 #include <relief/surface/cell_intersect.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/common/max_pyramid.h>
 
 #include <algorithm>
 #include <bit>

@@ -1,7 +1,6 @@
 #pragma once
-// Shared by `cone` and `relaxed-cone`: the cone map (one apex height and one cone ratio per
-// texel), its builders, its 8/16/32-bit encodings and the cell cursor both tracers use for
-// their exact parts.
+// Shared by `cone` and `relaxed-cone` (and `qdm`, for the safe apex): the cone map (one apex
+// height and one cone ratio per texel), its builders and its 8/16/32-bit encodings.
 //
 // Texel (i, j) has the footprint F = [i, i+1] × [j, j+1] (its sample sits at the centre). A map
 // entry (a, c) describes the frustum K = {(x, y, z) : dist((x, y), F) ≤ c·(z − a)}: the cone of
@@ -31,7 +30,7 @@
 // reach (S is continuous and piecewise planar, so S stays above such a ray: no exit to find),
 // per candidate and bounded over whole pyramid nodes; the steepest planes come from max filters
 // of the cell slopes (6 window sizes, 24 bytes per cell). Maps equal the full walks' to the bit.
-// Search: a max pyramid over the cells (quadtree/max_pyramid.h). A node is skipped when its
+// Search: a max pyramid over the cells (common/max_pyramid.h). A node is skipped when its
 // maximum is ≤ a or dist(F, node) ≥ c·(max − a) (no cell in it can lower c; tested squared with
 // a 1e-5 margin so that rounding never skips the cell that sets c). Per texel: c starts at the
 // ratio of the cell that set the previous texel's c (texels go boustrophedon through a run of
@@ -105,13 +104,15 @@ std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind);
 float safeApexHeight(const Surface& surface, int i, int j);
 
 // The texels as stored at `encoding` (rounded towards the safe side), and back. Decoding 16/8-bit
-// codes widens the rounding margin by this much (also the GLSL decode, cone/cone_map.glsl).
+// codes widens the rounding margin by this much (also the GLSL decode, common/cone_maps.glsl).
 inline constexpr float kConeDecodeMargin = 1.0f / float(1 << 20);
 MapArray encodeCones(const Surface& surface, const std::vector<vec2>& cones,
                      const ConeEncoding& encoding);
 ConeMap decodeCones(const Surface& surface, const MapArray& array, const ConeEncoding& encoding);
 
 // Parameters shared by both techniques' create/buildMaps.
+// `bits` must be 8, 16 or 32.
+Status checkConeParams(const ParamValues& params, std::string_view technique);
 ConeEncoding encodingFrom(const ParamValues& params);
 std::map<std::string, std::string> mapParameters(const Surface& surface, int variant,
                                                  const ConeEncoding& encoding);
