@@ -46,8 +46,6 @@ ALLOWED = [
      "curves/ moves to techniques/curves/ on another branch"),
     ("bench/bench_exact_embree.cpp", "tests/brute_force.h",
      "bench/ is being replaced by src/relief/bench/; until then it borrows the test oracle"),
-    ("src/relief/techniques/relaxed_cone/relaxed_cone.h", "src/relief/techniques/exact/exact.h",
-     "shadow rays take the reference walk"),
     # Test helpers living in src/ (to move to tests/support/).
     ("src/relief/techniques/*/*_test_support.h", "tests/ray_sets.h",
      "test helpers still in src/"),

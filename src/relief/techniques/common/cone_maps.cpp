@@ -1,6 +1,7 @@
 #include <relief/techniques/common/cone_maps.h>
 
 #include <relief/core/parallel.h>
+#include <relief/surface/cell_cursor.h>
 #include <relief/techniques/common/max_pyramid.h>
 
 #include <fmt/format.h>

@@ -124,7 +124,7 @@ Result<std::shared_ptr<const ConeMap>> coneMapFor(const TechniqueInput& input,
 Result<TechniqueMaps> coneTechniqueMaps(const TechniqueInput& input, std::string_view technique,
                                         ConeKind kind, int variant);
 
-// ---- hot helpers shared by the tracers ------------------------------------------------------
+// ---- hot helper shared by the tracers --------------------------------------------------------
 
 // Largest dt such that ray.at(t + dt) stays in the frustum of (a, c) from a position at height
 // z inside the footprint; kInfinity when the ray never leaves it. `horizontal` = |d.xy|.
@@ -133,45 +133,6 @@ inline float coneStep(float z, float a, float c, float horizontal, float dz) {
     const float closing = horizontal - c * dz;
     if (closing <= 0.0f) return room >= 0.0f ? kInfinity : 0.0f;
     return room / closing;
-}
-
-// The cell the ray is in at t, moving along its direction, and where it leaves it (≤ tEnd).
-struct CellSpan {
-    int ci, cj;
-    float tb;
-};
-inline CellSpan cellAt(const Surface& s, const Ray& ray, float t, float tEnd) {
-    const vec3& o = ray.origin;
-    const vec3& d = ray.direction;
-    const vec3 p = ray.at(t);
-    auto exitAlong = [](int cell, float origin, float dir) {
-        if (dir == 0.0f) return kInfinity;
-        return (float(cell) + (dir > 0.0f ? 1.5f : 0.5f) - origin) / dir;
-    };
-    int ci = int(std::floor(p.x - 0.5f)), cj = int(std::floor(p.y - 0.5f));
-    float tx = exitAlong(ci, o.x, d.x), ty = exitAlong(cj, o.y, d.y);
-    if (tx <= t) tx = exitAlong(ci += d.x > 0.0f ? 1 : -1, o.x, d.x);  // on the edge: move on
-    if (ty <= t) ty = exitAlong(cj += d.y > 0.0f ? 1 : -1, o.y, d.y);
-    if (s.edge() == EdgeMode::Clamp) {
-        ci = std::clamp(ci, -1, s.width() - 1);
-        cj = std::clamp(cj, -1, s.height() - 1);
-    }
-    return {ci, cj, std::max(t, std::min({tx, ty, tEnd}))};
-}
-
-// Leaving the box through its bottom face reaches z = 0 ≤ S (see ExactTracer).
-inline bool exitsThroughFloor(const Surface& s, const Ray& ray, float tExit) {
-    const float zExit = ray.origin.z + tExit * ray.direction.z;
-    const float zRounding =
-        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(ray.origin.z) + s.depth());
-    return ray.direction.z < 0.0f && zExit <= zRounding;
-}
-
-inline Hit hitAt(const Ray& ray, float t, Hit hit) {
-    hit.hit = true;
-    hit.t = t;
-    hit.position = ray.at(t);
-    return hit;
 }
 
 }  // namespace relief

@@ -23,6 +23,7 @@
 // Departures: the footprint frustum (rather than a point apex) and the exact finish make the
 //   method conservative on S; the map is fetched nearest-texel (no interpolation between
 //   texels, which would not be conservative); rays enter through any face (Surface::clip).
+#include <relief/surface/cell_cursor.h>
 #include <relief/techniques/common/cone_maps.h>
 
 namespace relief {

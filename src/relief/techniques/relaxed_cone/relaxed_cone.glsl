@@ -2,7 +2,7 @@
 // relaxed cone steps, then binary refinement on exact S; rising rays take the reference walk
 // (ExactTracer::trace there: cellsHit over the clipped span).
 // requires: common/cone_maps.glsl
-// requires: common_cell_walk.glsl
+// requires: surface/cell_walk.glsl
 
 Hit refine(Ray ray, float lo, float hi, float tExit, Hit hit) {
     hit.fetches += 4;

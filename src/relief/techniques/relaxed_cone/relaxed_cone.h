@@ -20,7 +20,7 @@
 //     "never past the first hit" for it. Relaxed cones valid only for exterior rays (wider) need
 //     the densely sampled ray sets of safety shapes §3 and are not built here.
 // Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
-//   exact walk (ExactTracer), so they are exact.
+//   reference walk (surface/cell_walk.h, as ExactTracer), so they are exact.
 // Map: "cones", as `cone` (same encodings). Build: faithful = one ray walk (exact cell exits)
 //   per sample B above the apex whose strict ratio is below the cone found so far, stopped
 //   where the ratio reaches it, samples found through the max pyramid and the neighbour's
@@ -31,8 +31,9 @@
 // Steps = cone steps + binary steps; fetches = 1 per cone step + 4 per S evaluation.
 // Departures: the binary search evaluates S exactly (not a bilinear fetch); rays enter through
 //   any face; a ray entering below S hits at entry; the map is fetched nearest-texel.
+#include <relief/surface/cell_cursor.h>
+#include <relief/surface/cell_walk.h>
 #include <relief/techniques/common/cone_maps.h>
-#include <relief/techniques/exact/exact.h>
 
 namespace relief {
 
@@ -45,7 +46,7 @@ class RelaxedConeTracer {
 public:
     RelaxedConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
                       RelaxedLimits limits)
-        : m_surface(surface), m_map(std::move(map)), m_limits(limits), m_exact(surface) {}
+        : m_surface(std::move(surface)), m_map(std::move(map)), m_limits(limits) {}
 
     Hit trace(const Ray& ray) const;
 
@@ -55,16 +56,18 @@ private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const ConeMap> m_map;
     RelaxedLimits m_limits;
-    ExactTracer m_exact;
 };
 
 inline Hit RelaxedConeTracer::trace(const Ray& ray) const {
     const vec3& d = ray.direction;
-    if (d.z >= 0.0f) return m_exact.trace(ray);
     const Surface& s = *m_surface;
     Hit hit;
     const RayInterval span = s.clip(ray);
     if (span.empty()) return hit;
+    if (d.z >= 0.0f) {  // the reference walk (ExactTracer::trace)
+        cellsHit(s, ray, span.tEnter, span.tExit, true, hit);
+        return hit;
+    }
     const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
     float t = span.tEnter, tPrev = t;
     const vec3 entry = ray.at(t);
