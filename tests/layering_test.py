@@ -44,17 +44,8 @@ ALLOWED = [
      "GLSL constants move into the registry rows (glslConstants) on another branch"),
     ("src/relief/techniques/registry.cpp", "src/relief/curves/*",
      "curves/ moves to techniques/curves/ on another branch"),
-    ("bench/bench_exact_embree.cpp", "tests/brute_force.h",
+    ("bench/bench_exact_embree.cpp", "tests/support/brute_force.h",
      "bench/ is being replaced by src/relief/bench/; until then it borrows the test oracle"),
-    # Test helpers living in src/ (to move to tests/support/).
-    ("src/relief/techniques/*/*_test_support.h", "tests/ray_sets.h",
-     "test helpers still in src/"),
-    ("src/relief/techniques/*/*", "src/relief/techniques/*/*_test_support.h",
-     "test helpers still in src/"),
-    ("src/relief/techniques/*/*_test_support.h", "src/relief/techniques/exact/exact.h",
-     "test helpers compare with the reference tracer directly"),
-    ("tests/exact_reference_test.cpp", "src/relief/techniques/exact/exact.h",
-     "the reference's own test, still in tests/"),
     ("src/relief/techniques/safety_common/*_test.cpp", "src/relief/techniques/safety_[cs][cd]/*",
      "typed tests over both safety rows"),
 ]

@@ -1,7 +1,7 @@
 // Embedded shader sources and program assembly: every registry row's `glsl` is embedded, every
 // technique shader belongs to a row, every such program compiles, and a compile error names the
 // file it happened in.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/program.h>
 #include <relief/gl/shader_sources.h>

@@ -2,7 +2,7 @@
 // the cells it covers, and is ≥ S sampled densely over its footprint (odd sizes, both modes).
 #include <gtest/gtest.h>
 #include <relief/techniques/common/max_pyramid.h>
-#include <relief/techniques/quadtree/walk_test_support.h>
+#include <support/walk_test_support.h>
 
 #include <chrono>
 

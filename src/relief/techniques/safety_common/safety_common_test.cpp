@@ -1,7 +1,7 @@
 // Map invariants of the safety shapes against brute force on small maps: dense ray sampling from
 // the texel's centerline segment (incl. rays aimed just under vertices: the limit rays), exact
 // crossing counts along each ray, and the N-buffer cone slope against reading vertices one by one.
-#include <relief/techniques/safety_common/safety_test_support.h>
+#include <support/safety_test_support.h>
 
 #include <relief/techniques/safety_common/safety_maps.h>
 

@@ -1,7 +1,7 @@
 // Exterior rays (§6.2): the line-space limiting test against a sampling oracle, the exterior
 // safety property by dense exterior ray sampling, exterior ≥ all-ray distances, exact rendering
 // from exterior views, interior origins falling back to the exact walk, and the map attributes.
-#include <relief/techniques/safety_common/safety_test_support.h>
+#include <support/safety_test_support.h>
 
 #include <relief/techniques/safety_cc/safety_cc.h>
 #include <relief/techniques/safety_common/safety_exterior.h>
@@ -214,7 +214,7 @@ void exteriorInvariant(const char* label, const BuildOptions& options, Steps mak
     size_t rays = 0, positions = 0, bad = 0;
     for (const ExteriorCase& c : kSmallCases) {
         auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
-        const ExactTracer exact(s);
+        const relief::testing::ReferenceTracer exact(s);
         const auto steps = makeSteps(*s, options);
         size_t caseBad = 0;
         for (const Ray& ray : exteriorRays(*s, 20000, rng)) {
@@ -276,7 +276,7 @@ TEST(SafetyExterior, InvariantDetectsLongerDistances) {
     size_t positions = 0, bad = 0;
     for (const ExteriorCase& c : kSmallCases) {
         auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
-        const ExactTracer exact(s);
+        const relief::testing::ReferenceTracer exact(s);
         const auto steps = distanceSteps(1)(*s, exteriorOptions());
         for (const Ray& ray : exteriorRays(*s, 5000, rng)) {
             const Hit ref = exact.trace(ray);

@@ -1,7 +1,7 @@
 // safety-sd and safety-cc (one typed suite): the contract for the parameter variants the generic
 // harness does not cover (isotropic, φ_max, baked maps), shadow rays, and the measured error of
 // the §7 options.
-#include <relief/techniques/safety_common/safety_test_support.h>
+#include <support/safety_test_support.h>
 
 #include <relief/techniques/registry.h>
 #include <relief/techniques/safety_cc/safety_cc.h>
@@ -158,7 +158,7 @@ TYPED_TEST(SafetyTracer, FewerStepsThanTheReferenceWithinPhiMax) {
     auto s = makeSurface("fbm", 256, 256, EdgeMode::Clamp, 0.1f);
     const typename T::Tracer all = *T::make(input<T>(s, {}));
     const typename T::Tracer steep = *T::make(input<T>(s, {{"phi-max", -45}}));
-    const ExactTracer exact(s);
+    const relief::testing::ReferenceTracer exact(s);
     ::relief::testing::RaySets sets(*s, 4);
     size_t steps = 0, stepsAll = 0, reference = 0, rays = 0;
     for (const Ray& r : sets.fromOutside(4000)) {

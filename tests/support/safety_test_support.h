@@ -2,10 +2,10 @@
 // Test helpers shared by safety_sd_test.cpp, safety_cc_test.cpp and safety_common_test.cpp:
 // surfaces (standard generators and the paper's Fig. 11 kind of relief), an exact count of how
 // often a ray passes between above and below S, and a tally against the exact reference.
-#include "../../../../tests/ray_sets.h"
+#include <support/ray_sets.h>
+#include <support/reference_tracer.h>
 
 #include <relief/core/generators.h>
-#include <relief/techniques/exact/exact.h>
 #include <relief/techniques/safety_common/safety_march.h>
 
 #include <gtest/gtest.h>
@@ -121,7 +121,7 @@ struct Tally {
 
 template <class T>
 Tally tally(const T& tracer, const Surface& s, const std::vector<Ray>& rays) {
-    const ExactTracer exact(std::make_shared<const Surface>(s));
+    const relief::testing::ReferenceTracer exact(std::make_shared<const Surface>(s));
     Tally t;
     for (const Ray& r : rays) t.add(tracer.trace(r), exact.trace(r));
     return t;
