@@ -46,8 +46,6 @@ ALLOWED = [
      "curves/ moves to techniques/curves/ on another branch"),
     ("bench/bench_exact_embree.cpp", "tests/support/brute_force.h",
      "bench/ is being replaced by src/relief/bench/; until then it borrows the test oracle"),
-    ("src/relief/techniques/safety_common/*_test.cpp", "src/relief/techniques/safety_[cs][cd]/*",
-     "typed tests over both safety rows"),
 ]
 
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]')

@@ -178,4 +178,33 @@ Tally contractOnAllMaps(Make make, int perKind, const char* label, bool exact = 
     return all;
 }
 
+// Rays from outside the box: far around it, and low at its sides (grazing rays through the side
+// walls, the ones that see under overhanging views), aimed at random points of the box.
+inline std::vector<Ray> exteriorRays(const Surface& s, int count, std::mt19937& rng) {
+    auto uniform = [&](double lo, double hi) {
+        return float(std::uniform_real_distribution<>(lo, hi)(rng));
+    };
+    const vec3 size(float(s.width()), float(s.height()), s.depth());
+    std::vector<Ray> rays;
+    for (int k = 0; k < count; ++k) {
+        vec3 o;
+        if (k % 2) {
+            const float el = glm::radians(uniform(-2.0, 89.0)), az = uniform(0.0, 6.2832);
+            const float radius = uniform(0.6, 3.0) * glm::length(size);
+            o = 0.5f * size + radius * vec3(std::cos(el) * std::cos(az),
+                                            std::cos(el) * std::sin(az), std::sin(el));
+        } else {  // just outside a side face, at any height up to above the top
+            const int side = k / 2 % 4;
+            const float u = uniform(0, 1), z = uniform(0, 1.3 * s.maxZ() + 0.1);
+            o = side == 0   ? vec3(-uniform(0.01, 3), u * size.y, z)
+                : side == 1 ? vec3(size.x + uniform(0.01, 3), u * size.y, z)
+                : side == 2 ? vec3(u * size.x, -uniform(0.01, 3), z)
+                            : vec3(u * size.x, size.y + uniform(0.01, 3), z);
+        }
+        const vec3 target(uniform(0, size.x), uniform(0, size.y), uniform(0, s.maxZ() + 0.1));
+        rays.push_back(Ray{o, glm::normalize(target - o), kInfinity});
+    }
+    return rays;
+}
+
 }  // namespace relief::safety::testing
