@@ -14,7 +14,7 @@
 #include <relief/io/heightfield_io.h>
 #include <relief/render/compare.h>
 #include <relief/report/svg_plot.h>
-#include <relief/techniques/cone/cone_common.h>
+#include <relief/techniques/common/cone_maps.h>
 #include <relief/techniques/registry.h>
 
 #include <fmt/format.h>

@@ -8,7 +8,7 @@
 // timing).
 #include "bench_common.h"
 // The double-precision oracle and the classification of disagreements the tests use (--judge).
-#include "../tests/brute_force.h"
+#include "../tests/support/brute_force.h"
 
 #include <relief/embree/embree_scene.h>
 #include <relief/io/heightfield_io.h>
@@ -37,7 +37,7 @@ Throughput of `exact` vs Embree 3 (rtcIntersect1, rtcIntersect16) on the same tr
   --out FILE     also write the Markdown report to FILE
   --data DIR     folder with earth-topology-2048x1024.png (default: <source>/data)
   --judge        classify up to 32 exact-Embree differences per view and peer with the
-                 double-precision brute force of tests/brute_force.h (slow on big maps)
+                 double-precision brute force of tests/support/brute_force.h (slow on big maps)
   -h, --help     this text
 )";
 

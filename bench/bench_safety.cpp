@@ -339,7 +339,7 @@ std::string exteriorBuildTable(const Options& o, GainMaps& gain) {
         ext.exterior = extSlope.exterior = extSlope.exteriorSlope = true;
         const std::string loadBefore = loadAverage();
         safety::DistanceMap sdAll, sdExt;
-        safety::ConeMap ccExt;
+        safety::CylinderConeMap ccExt;
         const Clocked tAll = clocked([&] { sdAll = safety::buildDistanceMap(*s, all); });
         const Clocked tExt = clocked([&] { sdExt = safety::buildDistanceMap(*s, ext); });
         const bool cone = n <= o.coneExtMax;

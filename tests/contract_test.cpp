@@ -2,7 +2,7 @@
 // random and adversarial rays over all standard generators, both edge modes and odd sizes.
 // exact → same hit/miss and |Δt| ≤ 1e-3; conservative → never past the first hit (t ≤ t_ref +
 // 1e-4) and converged within 1e-3 at its default cap; approximate → statistics are recorded.
-#include "ray_sets.h"
+#include <support/ray_sets.h>
 
 #include <relief/core/generators.h>
 #include <relief/techniques/registry.h>

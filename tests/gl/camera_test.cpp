@@ -1,7 +1,7 @@
 // Camera frames: rays made on the GPU from the camera block (common_camera.glsl) against the same
 // rays made on the CPU (gl::cameraRay), the rasterized peer against the ray caster, and (disabled
 // by default) the 640×480 timings of DESIGN §8.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/gl_tracer.h>
 #include <relief/techniques/registry.h>

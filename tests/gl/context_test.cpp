@@ -1,5 +1,5 @@
 // The EGL context: created once, describes itself, usable from several threads in turn.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/gl_tracer.h>
 #include <relief/gl/program.h>

@@ -14,7 +14,7 @@
 // - all: steps and fetches equal for at least 99% of rays.
 // Techniques with maps build them once per scene (info.buildMaps) and both sides trace with them,
 // which also checks that `create` accepts its own maps.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/gl_tracer.h>
 #include <relief/techniques/registry.h>

@@ -1,6 +1,6 @@
 // The generic map binding (shader_interface.h): GLSL names of map arrays, their buffer order, the
 // generated declarations, and baked maps given to the GL backend (input.maps) or refused.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/gl_tracer.h>
 #include <relief/gl/shader_interface.h>

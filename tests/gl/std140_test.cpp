@@ -1,7 +1,7 @@
 // The std140/std430 layouts defined once in C++ (shader_interface.h) against the GL driver: the
 // generated GLSL is compiled and the driver's offsets, block sizes and array strides must be the
 // C++ offsetof values, field by field.
-#include "gl_test_support.h"
+#include <support/gl_test_support.h>
 
 #include <relief/gl/program.h>
 #include <relief/gl/shader_interface.h>

@@ -1,7 +1,8 @@
 #pragma once
 // Shader sources embedded at build time (embed_shaders.cmake): every src/relief/gl/shaders/*.glsl
-// under its file name ("common_surface.glsl") and every src/relief/techniques/*/*.glsl under
-// "TECH/NAME.glsl" ("exact/exact.glsl", the value of TechniqueInfo::glsl).
+// under its file name ("common_surface.glsl"), every src/relief/surface/*.glsl under
+// "surface/NAME.glsl" and every src/relief/techniques/*/*.glsl under "TECH/NAME.glsl"
+// ("exact/exact.glsl", the value of TechniqueInfo::glsl).
 #include <cstddef>
 #include <span>
 #include <string_view>

@@ -2,12 +2,12 @@
 // curves — the visibility-curve displacement renderer of Fourquet, Cowan & Mann, "Geometric
 // Displacement on Plane and Sphere" (GI 2008), on the CPU, for the plane (the relief's box,
 // clamp mode) and the sphere (sphere/sphere_surface.h). The registry row `curves` draws its
-// images with it (TechniqueInfo::image); its stepping is the row's (techniques/curves/stepper.h).
+// images with it (TechniqueInfo::image); its stepping is shared with the row (techniques/common/curve_stepper.h).
 //
 // Every eye ray that can meet the relief lies in a vertical cutting plane through the eye (on the
 // sphere: a plane through the eye and the centre), whose image is a line through CoP_v. Along
 // each such visibility line, samples (sampling.h) are solved in order from the leading edge (or
-// CoP_s) outwards by the stepping of stepper.h, each starting from the previous solution; a
+// CoP_s) outwards by the stepping of curve_stepper.h, each starting from the previous solution; a
 // pixel is the average of the shaded samples that fall in it. Lines are independent and run in
 // parallel.
 //
@@ -18,14 +18,14 @@
 // enclosing surface (top of the box / sphere of radius R + D·max h).
 // Guarantee: none (contract approximate): a step can pass over a feature thinner than the gap
 // between two consecutive eye rays; errors are measured per sample against the exact references.
-// Departures: the leading edge is a wall of the solid (stepper.h); lines are not jittered, only
+// Departures: the leading edge is a wall of the solid (curve_stepper.h); lines are not jittered, only
 // samples along them; pixels that receive no sample take the mean of their neighbours (counted).
 #include <relief/core/error.h>
 #include <relief/core/image.h>
 #include <relief/render/curves/view_frame.h>
 #include <relief/render/renderer.h>
 #include <relief/sphere/sphere_surface.h>
-#include <relief/techniques/curves/stepper.h>  // the row's stepping (layering: allow-listed)
+#include <relief/techniques/common/curve_stepper.h>
 
 #include <vector>
 

@@ -8,14 +8,6 @@ ConeKind coneKind(int variant) {
 }
 }  // namespace
 
-Status checkConeParams(const ParamValues& params, std::string_view technique) {
-    const int bits = params.getInt("bits");
-    if (bits != 8 && bits != 16 && bits != 32)
-        return makeError(ErrorKind::BadArgument, "{}: bits must be 8, 16 or 32 (got {})",
-                         technique, bits);
-    return {};
-}
-
 Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "cone"); !status.ok()) return status.error();
     const int variant = input.params.getInt("variant");

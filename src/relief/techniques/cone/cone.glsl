@@ -1,6 +1,6 @@
 // cone — GLSL twin of relief::ConeTracer::trace (cone.h): the same cone steps, the same exact
 // cell finish, the same step and fetch counts.
-// requires: cone/cone_map.glsl
+// requires: common/cone_maps.glsl
 
 Hit trace(Ray ray) {
     Hit hit = noHit();

@@ -3,7 +3,7 @@
 // Paper: W. Dummer, "Cone Step Mapping: An Iterative Ray-Heightfield Intersection Algorithm"
 //   (2006): per texel the widest upward cone, apex on the surface, that the heightfield never
 //   enters; the ray steps to where it leaves the cone of the texel it is in.
-// Guarantee (variant 0 `safe`, the default, cone_common.h SafeStrict): each texel (i, j) stores
+// Guarantee (variant 0 `safe`, the default, cone_maps.h SafeStrict): each texel (i, j) stores
 //   (a, c) such that S never enters the frustum K = {dist(xy, [i,i+1]×[j,j+1]) ≤ c·(z − a)}
 //   with a = max of S over the footprint. Every marching position p inside the footprint with
 //   p.z ≥ a is in K and K is convex, so the step to K's boundary (coneStep) never passes S,
@@ -15,7 +15,7 @@
 //   between sample centres. S between samples and positions off the texel centre can enter the
 //   cone: approximate (measured in cone_test.cpp and docs/cones.md).
 // Map: "cones", 2 channels (a, c) per texel, W×H; float32 or 16/8-bit codes rounded to the safe
-//   side (cone_common.h). Build: pyramid-pruned search (cone_common.h), O(WH · nodes near the
+//   side (cone_maps.h). Build: pyramid-pruned search (cone_maps.h), O(WH · nodes near the
 //   cone), parallel over rows, 8 bytes per texel plus the max pyramid; equal to the Θ(N⁴) brute
 //   force to the bit. 1024² fbm on two threads: safe 1.9 s wall / 1.4 s CPU, faithful 5.2 s /
 //   3.5 s on a loaded machine (docs/cones.md; about 4.5× per doubling of the side).
@@ -23,7 +23,8 @@
 // Departures: the footprint frustum (rather than a point apex) and the exact finish make the
 //   method conservative on S; the map is fetched nearest-texel (no interpolation between
 //   texels, which would not be conservative); rays enter through any face (Surface::clip).
-#include <relief/techniques/cone/cone_common.h>
+#include <relief/surface/cell_cursor.h>
+#include <relief/techniques/common/cone_maps.h>
 
 namespace relief {
 
@@ -33,7 +34,7 @@ struct ConeLimits {
     float stall = 0.1f;
 };
 
-// What cone/cone.glsl and the cone/cone_map.glsl it requires read (the row's glslConstants).
+// What cone/cone.glsl and the common/cone_maps.glsl it requires read (the row's glslConstants).
 inline constexpr GlslConstant kConeGlslConstants[] = {
     {"kConeDecodeMargin", double(kConeDecodeMargin), false},
     {"kConeStall", double(ConeLimits{}.stall), false},
@@ -104,8 +105,6 @@ inline constexpr ParamSpec kConeParams[] = {
 };
 Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input);
 Result<TechniqueMaps> buildConeMaps(const TechniqueInput& input);
-// Validates `variant`, `bits` and `sqrt` (shared with relaxed-cone).
-Status checkConeParams(const ParamValues& params, std::string_view technique);
 // The row's check: the parameters, and input.maps (decoded, then dropped) when given.
 Status checkCone(const TechniqueInput& input);
 

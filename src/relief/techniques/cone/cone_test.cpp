@@ -1,6 +1,6 @@
 // cone: map invariants against dense sampling of S and brute force, and the tracer's contract
 // for the variants and encodings the generic harness (tests/contract_test.cpp) does not cover.
-#include <relief/techniques/cone/cone_test_support.h>
+#include <support/cone_test_support.h>
 
 #include <relief/techniques/cone/cone.h>
 

@@ -7,14 +7,14 @@
 //   To answer a single ray, this tracer walks that ray's own curve: the eye rays of its vertical
 //   cutting plane from the one through the leading edge (or straight down when the origin is
 //   above the region: CoP_s) to the ray itself, `angle-step` radians apart, each solved by
-//   stepper.h with threshold ε·Δs. Slow (hundreds of eye rays per ray); it is there so that
+//   curve_stepper.h with threshold ε·Δs. Slow (hundreds of eye rays per ray); it is there so that
 //   `curves` runs everywhere the registry does (contract test, bench, trace).
 // Map: none; no build cost. Can overshoot: yes (a step passes over features thinner than the
 //   gap between two eye rays). Rays that do not descend end the curve: they miss.
-// Departures: the leading edge is a wall of the solid (stepper.h); repeat mode: every curve
+// Departures: the leading edge is a wall of the solid (curve_stepper.h); repeat mode: every curve
 //   starts at CoP_s and ends after Surface::kRepeatTravelFactor·max(W, H) texels.
 // Steps = evaluations (step pairs and binary cuts) over the whole walk; fetches = 4 per one.
-#include <relief/techniques/curves/stepper.h>
+#include <relief/techniques/common/curve_stepper.h>
 #include <relief/techniques/technique.h>
 
 namespace relief::curves {

@@ -1,6 +1,6 @@
 // maxmip — GLSL twin of relief::MaxmipTracer::trace (maxmip.h): walkPyramid with the flat max
 // bound (MaxBound) and the Ancestor policy.
-// requires: quadtree/pyramid_walk.glsl
+// requires: common/pyramid_walk.glsl
 
 float boundEnter(NodeBox b, WalkRay r, float t, float tOut) { return maxBoundEnter(b, r, t, tOut); }
 

@@ -6,8 +6,8 @@
 //   ancestor of the node and its neighbour before descending again.
 // Guarantee: exact on S (same hit/miss as `exact`, |Δt| ≤ 1e-3); with max-steps > 0 it is
 //   approximate (a hit at the cursor when the cap is reached).
-// Map: the max pyramid shared with `quadtree` (quadtree/max_pyramid.h): one float per node,
-//   ≈ 4/3 (W+1)(H+1) floats, O(WH) build. The walk is quadtree/pyramid_walk.h with the
+// Map: the max pyramid shared with `quadtree` (common/max_pyramid.h): one float per node,
+//   ≈ 4/3 (W+1)(H+1) floats, O(WH) build. The walk is common/pyramid_walk.h with the
 //   Ancestor policy; only the policy differs from `quadtree`.
 // Steps = nodes and cells tested; fetches = pyramid reads + 4 per cell test.
 // Departures: Tevs et al. bound a texel's bilinear patch by its max and intersect the patch;
@@ -15,7 +15,7 @@
 //   with the reference's two-triangle test. The walk ascends to the child of the common
 //   ancestor that holds the neighbour (the ancestor itself was already entered); crossing the
 //   tile seam in repeat mode restarts at the root of the next tile.
-#include <relief/techniques/quadtree/pyramid_walk.h>
+#include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/technique.h>
 
 #include <memory>

@@ -1,4 +1,4 @@
-// maxmip's baked maps: the max pyramid shared with `quadtree` (quadtree/quadtree_maps.cpp).
+// maxmip's baked maps: the max pyramid shared with `quadtree` (common/max_pyramid_maps.cpp).
 #include <relief/techniques/maxmip/maxmip.h>
 
 namespace relief {

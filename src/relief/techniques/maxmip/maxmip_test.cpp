@@ -1,7 +1,7 @@
 // maxmip against the reference (contract "exact").
 #include <gtest/gtest.h>
 #include <relief/techniques/maxmip/maxmip.h>
-#include <relief/techniques/quadtree/walk_test_support.h>
+#include <support/walk_test_support.h>
 #include <relief/techniques/registry.h>
 
 namespace relief {
@@ -34,7 +34,7 @@ TEST(Maxmip, ClimbsBackAfterACellTest) {
     const auto tracer = maxmipMaker()(surface);
     const Ray ray{vec3(0.0f, 100.3f, 25.0f), glm::normalize(vec3(1.0f, 0.0f, -0.001f)), kInfinity};
     const Hit hit = tracer.trace(ray);
-    const Hit ref = ExactTracer(surface).trace(ray);
+    const Hit ref = testing::ReferenceTracer(surface).trace(ray);
     EXPECT_EQ(hit.hit, ref.hit);
     EXPECT_LT(hit.steps, ref.steps);
 }

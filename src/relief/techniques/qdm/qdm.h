@@ -36,7 +36,8 @@
 //   instead of unit rings of samples; the parabola is used up to its top only (the descending
 //   half bounds nothing from off-centre positions); the cone height limit is
 //   height-ratio · max(S); no texture filtering; rays enter through any face.
-#include <relief/techniques/cone/cone_common.h>
+#include <relief/surface/cell_cursor.h>
+#include <relief/techniques/common/cone_maps.h>
 #include <relief/techniques/qdm/qdm_map.h>
 
 namespace relief {

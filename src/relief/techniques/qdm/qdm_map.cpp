@@ -1,8 +1,8 @@
 #include <relief/techniques/qdm/qdm_map.h>
 
 #include <relief/core/parallel.h>
-#include <relief/techniques/cone/cone_common.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/common/cone_maps.h>
+#include <relief/techniques/common/max_pyramid.h>
 
 #include <fmt/format.h>
 

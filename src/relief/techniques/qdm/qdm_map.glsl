@@ -1,8 +1,8 @@
 // The quadratic displacement map — GLSL twin of relief::QdmMap (qdm_map.h): the map array "qdm"
 // (4 channels a, b, c, h per texel, float32), QdmMap::at and reach, qdmProfile, parabolaStep,
 // and of quadricStep and referenceSpan (qdm.h); the exact parts' cell cursor is
-// common_cell_cursor.glsl (shared with cone and relaxed-cone).
-// requires: common_cell_cursor.glsl
+// surface/cell_cursor.glsl (shared with cone and relaxed-cone).
+// requires: surface/cell_cursor.glsl
 
 struct QdmTexel {
     float a;

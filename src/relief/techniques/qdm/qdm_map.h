@@ -5,7 +5,7 @@
 //
 // Why the fit holds. For texel F with apex h, every cell B with corner maximum M_B > h gives a
 // point (r_B, v_B) = (dist(F, B), M_B − h): S ≤ M_B over B and dist(q, F) ≥ r_B there. A cell
-// overlapping F (r_B = 0) gives S(q) ≤ h + G_B·dist(q, F) (cone_common.h, G_B its steeper plane
+// overlapping F (r_B = 0) gives S(q) ≤ h + G_B·dist(q, F) (cone_maps.h, G_B its steeper plane
 // gradient), capped at v_B: it adds the slope constraint s ≥ G_B and the point (v_B / G_B, v_B).
 // So g(x) = max over the points with r ≤ x (and the overlapping cells' min(G x, v)) bounds
 // S − h at footprint distance x, and a nondecreasing f ≥ g is a valid profile.

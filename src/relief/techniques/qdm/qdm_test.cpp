@@ -1,7 +1,7 @@
 // qdm: the map invariant against dense sampling of S from positions anywhere in the texel, the
 // fast builder (walk and bisection) against the paper's all-cells builder, plain vs convex-bound
 // search, the stable root, baked-map validation and the contract with a finite max-distance.
-#include <relief/techniques/cone/cone_test_support.h>
+#include <support/cone_test_support.h>
 
 #include <relief/techniques/qdm/qdm.h>
 

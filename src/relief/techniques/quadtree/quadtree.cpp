@@ -11,4 +11,8 @@ Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     return makeBatchTracer(QuadtreeTracer(input.surface, std::move(*pyramid), ascent, limits));
 }
 
+Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input) {
+    return maxPyramidMaps(input, "quadtree");
+}
+
 }  // namespace relief

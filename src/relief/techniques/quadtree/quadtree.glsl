@@ -1,6 +1,6 @@
 // quadtree — GLSL twin of relief::QuadtreeTracer::trace (quadtree.h): walkPyramid with the flat
 // max bound (MaxBound) and the Ascent policy from the `ascend` parameter.
-// requires: quadtree/pyramid_walk.glsl
+// requires: common/pyramid_walk.glsl
 
 float boundEnter(NodeBox b, WalkRay r, float t, float tOut) { return maxBoundEnter(b, r, t, tOut); }
 

@@ -24,7 +24,7 @@
 //     below S through a side wall hits it at the entry.
 //   - max-steps = 0 (the default) is the dynamic loop; N > 0 is the paper's fixed loop: after N
 //     iterations it reports a hit at the cursor.
-#include <relief/techniques/quadtree/pyramid_walk.h>
+#include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/technique.h>
 
 #include <memory>
@@ -68,6 +68,6 @@ inline constexpr ParamSpec kQuadtreeParams[] = {
      ParamRole::Variant},
 };
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input);
-Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input);  // quadtree_maps.cpp
+Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input);
 
 }  // namespace relief

@@ -1,7 +1,7 @@
 // quadtree against the reference (contract "exact"), and the approximate options.
 #include <gtest/gtest.h>
 #include <relief/techniques/quadtree/quadtree.h>
-#include <relief/techniques/quadtree/walk_test_support.h>
+#include <support/walk_test_support.h>
 #include <relief/techniques/registry.h>
 
 namespace relief {
@@ -48,7 +48,7 @@ TEST(Quadtree, BoxSurfaceIsNeverBehindS) {
     for (const MapSpec& m : walk_test::contractMaps()) {
         const auto surface = walk_test::makeSurface(m, 2);
         const auto tracer = quadtreeMaker(Ascent::Parent, {0, true})(surface);
-        const ExactTracer exact(surface);
+        const testing::ReferenceTracer exact(surface);
         walk_test::RayMaker maker(*surface, 9);
         for (const Ray& ray : maker.all(20)) {
             const Hit ref = exact.trace(ray), got = tracer.trace(ray);

@@ -2,7 +2,7 @@
 // The oriented max pyramid of `quadtree-oriented`: per node (levels ≥ 1) a plane lying on top of
 // S over the node, plus the node's flat maximum. See quadtree_oriented.h for the proof that the
 // plane bounds S.
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/common/max_pyramid.h>
 
 #include <array>
 #include <vector>

@@ -2,7 +2,7 @@
 // walkPyramid with the Parent policy and OrientedBound (the flat max as a pre-test, then the
 // node's plane, enterBelowPlane). Maps: "level0" (the flat pyramid's finest level) and
 // "oriented1".. (c00, c10, c01, zmax per node).
-// requires: quadtree/pyramid_walk.glsl
+// requires: common/pyramid_walk.glsl
 
 float enterBelowPlane(float c00, float c10, float c01, float zmax, NodeBox b, WalkRay r, float t,
                       float tOut) {

@@ -19,7 +19,7 @@
 //   the node (searched in float), plus a 2e-6 relative margin that covers every rounding.
 //   Build: O(WH log(WH)) (each level reads every vertex once): 0.2–0.4 s at 4096², ≈ 1 s at
 //   8192² on two cores.
-// Walk: quadtree/pyramid_walk.h with the `quadtree` default policy (jump to the neighbour, up one
+// Walk: common/pyramid_walk.h with the `quadtree` default policy (jump to the neighbour, up one
 //   level on entering a new parent). Per node: the flat max as a fast pre-test, then the plane:
 //   the cursor moves to the first point below both, or the node is skipped.
 // Steps = nodes and cells tested; fetches = node reads (one RGBA each) + 4 per cell test.
@@ -27,7 +27,7 @@
 //   bound would need a quadratic per node); the fourth channel holds the flat max instead of
 //   the redundant corner. The finest level (one cell) keeps the flat max: the exact cell test
 //   follows at once, so a plane there would only cost memory.
-#include <relief/techniques/quadtree/pyramid_walk.h>
+#include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/quadtree_oriented/oriented_pyramid.h>
 #include <relief/techniques/technique.h>
 

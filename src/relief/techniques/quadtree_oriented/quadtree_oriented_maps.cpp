@@ -1,4 +1,4 @@
-// quadtree-oriented's baked maps: the flat max pyramid ("level0" .. , quadtree/quadtree_maps.cpp)
+// quadtree-oriented's baked maps: the flat max pyramid ("level0" .. , common/max_pyramid_maps.cpp)
 // and the oriented one ("oriented1" .. "oriented<top>", 4 channels: c00, c10, c01, zmax). The GL
 // backend reads the same arrays (gl/shader_interface.h).
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>

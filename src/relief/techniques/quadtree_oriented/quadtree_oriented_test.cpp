@@ -1,7 +1,7 @@
 // quadtree-oriented: the plane of every node bounds S (brute force), fits a ramp, and the tracer
 // is exact against the reference.
 #include <gtest/gtest.h>
-#include <relief/techniques/quadtree/walk_test_support.h>
+#include <support/walk_test_support.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
 #include <relief/techniques/registry.h>
 

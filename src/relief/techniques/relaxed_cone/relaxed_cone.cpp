@@ -1,7 +1,5 @@
 #include <relief/techniques/relaxed_cone/relaxed_cone.h>
 
-#include <relief/techniques/cone/cone.h>
-
 namespace relief {
 
 namespace {

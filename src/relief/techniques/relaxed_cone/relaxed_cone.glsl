@@ -1,8 +1,8 @@
 // relaxed-cone — GLSL twin of relief::RelaxedConeTracer::trace and ::refine (relaxed_cone.h):
 // relaxed cone steps, then binary refinement on exact S; rising rays take the reference walk
 // (ExactTracer::trace there: cellsHit over the clipped span).
-// requires: cone/cone_map.glsl
-// requires: common_cell_walk.glsl
+// requires: common/cone_maps.glsl
+// requires: surface/cell_walk.glsl
 
 Hit refine(Ray ray, float lo, float hi, float tExit, Hit hit) {
     hit.fetches += 4;

@@ -5,7 +5,7 @@
 //   inside them; after `max-steps` cone steps a binary search between the last two positions
 //   finds the hit.
 // Guarantee, by variant:
-//   1 `faithful`: the published map (cone_common.h FaithfulRelaxed): only rays from the box top
+//   1 `faithful`: the published map (cone_maps.h FaithfulRelaxed): only rays from the box top
 //     above the apex are considered. Rays entering the box elsewhere, or reaching a marching
 //     position after a step, can cross S twice inside a cone (safety shapes §3, Fig. 4): a thin
 //     wall is stepped over. Approximate.
@@ -13,26 +13,27 @@
 //     ray reaching a marching position from anywhere above S (the rays relief traces: shadow
 //     rays, interior origins) is a strict cone (safety shapes §3 and Fig. 6(a): rays starting on
 //     the surface must be accounted for). So the safe map is the safe strict map of `cone`
-//     (footprint frustum, proof in cone_common.h): a step never passes S, the binary search
+//     (footprint frustum, proof in cone_maps.h): a step never passes S, the binary search
 //     always brackets the first crossing, and the reported t is the last position known above
 //     S: never past the first hit. It does not converge within 1e-3 at a fixed cap (no exact
 //     finish, as published), so the row's contract is approximate; relaxed_cone_test.cpp checks
 //     "never past the first hit" for it. Relaxed cones valid only for exterior rays (wider) need
 //     the densely sampled ray sets of safety shapes §3 and are not built here.
 // Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
-//   exact walk (ExactTracer), so they are exact.
+//   reference walk (surface/cell_walk.h, as ExactTracer), so they are exact.
 // Map: "cones", as `cone` (same encodings). Build: faithful = one ray walk (exact cell exits)
 //   per sample B above the apex whose strict ratio is below the cone found so far, stopped
 //   where the ratio reaches it, samples found through the max pyramid and the neighbour's
-//   guess (cone_common.h); equal to the Θ(N⁴) brute force to the bit. 1024² on two threads:
+//   guess (cone_maps.h); equal to the Θ(N⁴) brute force to the bit. 1024² on two threads:
 //   fbm 69 s CPU (≈ 35 s wall idle; 102 s under load), the SRTM window 4.6 s CPU
 //   (docs/cones.md; the published preprocess is reported at about 8 hours); ≈ 10–13× per
 //   doubling of the side on fbm. Safe = the strict build (1.4 s CPU).
 // Steps = cone steps + binary steps; fetches = 1 per cone step + 4 per S evaluation.
 // Departures: the binary search evaluates S exactly (not a bilinear fetch); rays enter through
 //   any face; a ray entering below S hits at entry; the map is fetched nearest-texel.
-#include <relief/techniques/cone/cone_common.h>
-#include <relief/techniques/exact/exact.h>
+#include <relief/surface/cell_cursor.h>
+#include <relief/surface/cell_walk.h>
+#include <relief/techniques/common/cone_maps.h>
 
 namespace relief {
 
@@ -45,7 +46,7 @@ class RelaxedConeTracer {
 public:
     RelaxedConeTracer(std::shared_ptr<const Surface> surface, std::shared_ptr<const ConeMap> map,
                       RelaxedLimits limits)
-        : m_surface(surface), m_map(std::move(map)), m_limits(limits), m_exact(surface) {}
+        : m_surface(std::move(surface)), m_map(std::move(map)), m_limits(limits) {}
 
     Hit trace(const Ray& ray) const;
 
@@ -55,16 +56,18 @@ private:
     std::shared_ptr<const Surface> m_surface;
     std::shared_ptr<const ConeMap> m_map;
     RelaxedLimits m_limits;
-    ExactTracer m_exact;
 };
 
 inline Hit RelaxedConeTracer::trace(const Ray& ray) const {
     const vec3& d = ray.direction;
-    if (d.z >= 0.0f) return m_exact.trace(ray);
     const Surface& s = *m_surface;
     Hit hit;
     const RayInterval span = s.clip(ray);
     if (span.empty()) return hit;
+    if (d.z >= 0.0f) {  // the reference walk (ExactTracer::trace)
+        cellsHit(s, ray, span.tEnter, span.tExit, true, hit);
+        return hit;
+    }
     const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
     float t = span.tEnter, tPrev = t;
     const vec3 entry = ray.at(t);

@@ -1,6 +1,6 @@
 // relaxed-cone: the safe variant never reports a hit past the first one; the faithful variant
 // steps over thin walls that the safe one does not, on the same rays; shadow rays are exact.
-#include <relief/techniques/cone/cone_test_support.h>
+#include <support/cone_test_support.h>
 
 #include <relief/techniques/relaxed_cone/relaxed_cone.h>
 

@@ -6,7 +6,7 @@ namespace {
 
 constexpr const char* kName = "safety-cc";
 
-safety::ConeMap buildCone(const Surface& surface, const safety::BuildOptions& build) {
+safety::CylinderConeMap buildCone(const Surface& surface, const safety::BuildOptions& build) {
     return safety::buildConeMap(surface, safety::buildDistanceMap(surface, build), build);
 }
 
@@ -14,7 +14,7 @@ safety::ConeMap buildCone(const Surface& surface, const safety::BuildOptions& bu
 
 Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
     safety::BuildOptions build = safety::buildOptionsFrom(input.params);
-    std::shared_ptr<const safety::ConeMap> map;
+    std::shared_ptr<const safety::CylinderConeMap> map;
     if (input.maps) {
         auto baked = safety::bakedOptions(input.params, *input.maps);
         if (!baked) return baked.error();
@@ -22,10 +22,10 @@ Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
         auto loaded = safety::coneMapFromArrays(*input.maps, input.surface->width(),
                                                 input.surface->height());
         if (!loaded) return loaded.error();
-        map = std::make_shared<const safety::ConeMap>(std::move(*loaded));
+        map = std::make_shared<const safety::CylinderConeMap>(std::move(*loaded));
     } else {
         if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
-        map = std::make_shared<const safety::ConeMap>(buildCone(*input.surface, build));
+        map = std::make_shared<const safety::CylinderConeMap>(buildCone(*input.surface, build));
     }
     return SafetyCcTracer(input.surface, safety::ConeShape(std::move(map)),
                           safety::marchOptionsFrom(input.params, build));

@@ -1,7 +1,7 @@
 // Map invariants of the safety shapes against brute force on small maps: dense ray sampling from
 // the texel's centerline segment (incl. rays aimed just under vertices: the limit rays), exact
 // crossing counts along each ray, and the N-buffer cone slope against reading vertices one by one.
-#include <relief/techniques/safety_common/safety_test_support.h>
+#include <support/safety_test_support.h>
 
 #include <relief/techniques/safety_common/safety_maps.h>
 
@@ -161,8 +161,8 @@ void checkConeInvariant(bool isotropic, double phiMaxDeg) {
         BuildOptions o;
         o.isotropic = isotropic;
         o.phiMaxDeg = phiMaxDeg;
-        const ConeMap map = buildConeMap(*s, buildDistanceMap(*s, o), o);
-        const ConeShape shape(std::make_shared<const ConeMap>(map));
+        const CylinderConeMap map = buildConeMap(*s, buildDistanceMap(*s, o), o);
+        const ConeShape shape(std::make_shared<const CylinderConeMap>(map));
         const double tanPhi = tanPhiMax(phiMaxDeg);
         for (int cls = 0; cls < kClassCount; ++cls)
             for (int j = 0; j < s->height(); ++j)
@@ -196,7 +196,7 @@ TEST(SafetyMaps, ConeSlopeMatchesDirectScan) {
     for (const InvariantCase& c : kInvariantCases) {
         auto s = makeSurface(c.generator, c.width, c.height, c.edge, c.depthRatio);
         const BuildOptions o;
-        const ConeMap map = buildConeMap(*s, buildDistanceMap(*s, o), o);
+        const CylinderConeMap map = buildConeMap(*s, buildDistanceMap(*s, o), o);
         const float slack = 1e-6f * (1.0f + s->maxZ());
         for (int cls = 0; cls < kClassCount; ++cls)
             for (int j = 0; j < s->height(); ++j)

@@ -1,15 +1,15 @@
 // Exterior rays (§6.2): the line-space limiting test against a sampling oracle, the exterior
-// safety property by dense exterior ray sampling, exterior ≥ all-ray distances, exact rendering
-// from exterior views, interior origins falling back to the exact walk, and the map attributes.
-#include <relief/techniques/safety_common/safety_test_support.h>
+// safety property by dense exterior ray sampling, exterior ≥ all-ray distances and the map
+// attributes. Exact rendering from exterior views and interior origins falling back to the exact
+// walk are the rows' tests (support/safety_tracer_cases.h).
+#include <support/safety_test_support.h>
 
-#include <relief/techniques/safety_cc/safety_cc.h>
 #include <relief/techniques/safety_common/safety_exterior.h>
-#include <relief/techniques/safety_sd/safety_sd.h>
 
 namespace relief::safety {
 namespace {
 
+using testing::exteriorRays;
 using testing::makeSurface;
 using testing::transitions;
 
@@ -146,33 +146,6 @@ TEST(SafetyExterior, LimitingTestAgreesWithSampledLines) {
 
 // ---- The exterior safety property, by dense exterior rays ----
 
-// Rays from outside the box: far around it, and low at its sides (grazing rays through the side
-// walls, the ones that see under overhanging views), aimed at random points of the box.
-std::vector<Ray> exteriorRays(const Surface& s, int count, std::mt19937& rng) {
-    auto uniform = [&](double lo, double hi) { return float(std::uniform_real_distribution<>(lo, hi)(rng)); };
-    const vec3 size(float(s.width()), float(s.height()), s.depth());
-    std::vector<Ray> rays;
-    for (int k = 0; k < count; ++k) {
-        vec3 o;
-        if (k % 2) {
-            const float el = glm::radians(uniform(-2.0, 89.0)), az = uniform(0.0, 6.2832);
-            const float radius = uniform(0.6, 3.0) * glm::length(size);
-            o = 0.5f * size + radius * vec3(std::cos(el) * std::cos(az),
-                                            std::cos(el) * std::sin(az), std::sin(el));
-        } else {  // just outside a side face, at any height up to above the top
-            const int side = k / 2 % 4;
-            const float u = uniform(0, 1), z = uniform(0, 1.3 * s.maxZ() + 0.1);
-            o = side == 0   ? vec3(-uniform(0.01, 3), u * size.y, z)
-                : side == 1 ? vec3(size.x + uniform(0.01, 3), u * size.y, z)
-                : side == 2 ? vec3(u * size.x, -uniform(0.01, 3), z)
-                            : vec3(u * size.x, size.y + uniform(0.01, 3), z);
-        }
-        const vec3 target(uniform(0, size.x), uniform(0, size.y), uniform(0, s.maxZ() + 0.1));
-        rays.push_back(Ray{o, glm::normalize(target - o), kInfinity});
-    }
-    return rays;
-}
-
 // For every centerline position of the ray's class before its first hit (above S, reached from
 // outside without meeting S): the ray must not cross S twice within the centerlines the shape
 // allows there (`steps(cls, i, j, z, rise)`). Returns the positions checked / violating.
@@ -214,7 +187,7 @@ void exteriorInvariant(const char* label, const BuildOptions& options, Steps mak
     size_t rays = 0, positions = 0, bad = 0;
     for (const ExteriorCase& c : kSmallCases) {
         auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
-        const ExactTracer exact(s);
+        const relief::testing::ReferenceTracer exact(s);
         const auto steps = makeSteps(*s, options);
         size_t caseBad = 0;
         for (const Ray& ray : exteriorRays(*s, 20000, rng)) {
@@ -241,7 +214,8 @@ auto distanceSteps(int extra) {
 
 auto coneSteps() {
     return [](const Surface& s, const BuildOptions& o) {
-        auto map = std::make_shared<const ConeMap>(buildConeMap(s, buildDistanceMap(s, o), o));
+        auto map =
+            std::make_shared<const CylinderConeMap>(buildConeMap(s, buildDistanceMap(s, o), o));
         const ConeShape shape(map);
         return [shape](int cls, int i, int j, float z, float rise) {
             return std::min(shape.step(cls, i, j, z, rise), 1 << 16);
@@ -275,7 +249,7 @@ TEST(SafetyExterior, InvariantDetectsLongerDistances) {
     size_t positions = 0, bad = 0;
     for (const ExteriorCase& c : kSmallCases) {
         auto s = makeSurface(c.generator, c.width, c.height, EdgeMode::Clamp, c.depthRatio);
-        const ExactTracer exact(s);
+        const relief::testing::ReferenceTracer exact(s);
         const auto steps = distanceSteps(1)(*s, exteriorOptions());
         for (const Ray& ray : exteriorRays(*s, 5000, rng)) {
             const Hit ref = exact.trace(ray);
@@ -344,7 +318,7 @@ TEST(SafetyExterior, MapEqualsDirectScanAndIsNeverShorter) {
     EXPECT_GT(sumExt, sumAll);
 }
 
-TEST(SafetyExterior, OptionsRecordedAndRefused) {
+TEST(SafetyExterior, OptionsRecorded) {
     auto s = makeSurface("walls", 24, 20, EdgeMode::Clamp, 0.25f);
     const BuildOptions o = exteriorOptions(90.0, true);
     const TechniqueMaps maps =
@@ -353,79 +327,7 @@ TEST(SafetyExterior, OptionsRecordedAndRefused) {
     ASSERT_TRUE(back);
     EXPECT_TRUE(back->exterior);
     EXPECT_TRUE(back->exteriorSlope);
-    // All-ray maps asked for exterior: refused.
-    const TechniqueMaps allRays = distanceMapToArrays("safety-sd", buildDistanceMap(*s, {}), {});
-    TechniqueInput input = testing::inputFor(s, {{"exterior", 1}}, kSafetySdParams);
-    input.maps = &allRays;
-    EXPECT_FALSE(makeSafetySdTracer(input));
-    // Repeat mode: refused.
-    auto tiled = makeSurface("walls", 24, 20, EdgeMode::Repeat, 0.25f);
-    EXPECT_FALSE(makeSafetySdTracer(testing::inputFor(tiled, {{"exterior", 1}}, kSafetySdParams)));
-    EXPECT_FALSE(buildSafetyCcMaps(testing::inputFor(tiled, {{"exterior", 1}}, kSafetyCcParams)));
-}
-
-// ---- Rendering ----
-
-template <class Make>
-void exactFromExteriorViews(const char* label, Make make, double phiMax = 90.0) {
-    uint32_t seed = 41;
-    size_t total = 0;
-    for (const char* g : {"walls", "spikes", "fig11", "fbm", "terraces", "peaks6", "sine"}) {
-        auto s = makeSurface(g, 48, 40, EdgeMode::Clamp, 0.25f);
-        const auto tracer = make(s);
-        ::relief::testing::RaySets sets(*s, seed++);
-        std::vector<Ray> rays = sets.fromOutside(90000);
-        std::mt19937 rng(seed);
-        for (const Ray& r : exteriorRays(*s, 20000, rng)) rays.push_back(r);
-        const auto t = testing::tally(tracer, *s, rays);
-        EXPECT_EQ(t.wrong, 0u) << label << " " << g;
-        EXPECT_EQ(t.beyond, 0u) << label << " " << g;
-        size_t outsidePhi = 0;  // the only fallbacks: every origin is exterior
-        for (const Ray& r : rays)
-            outsidePhi += !s->clip(r).empty() && !rayWithinPhiMax(r.direction, tanPhiMax(phiMax));
-        EXPECT_EQ(tracer.fallbacks(), outsidePhi) << label << " " << g;
-        total += t.rays;
-        std::printf("[ safety   ] %-28s %-8s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
-                    "max |dt| %.3g\n", label, g, t.rays, t.wrong, t.beyond, t.maxError);
-    }
-    EXPECT_GE(total, size_t(7e5));
-}
-
-TEST(SafetyExterior, ExactFromExteriorViewsSd) {
-    exactFromExteriorViews("SD exterior", [](std::shared_ptr<const Surface> s) {
-        return *makeSafetySdTracer(testing::inputFor(s, {{"exterior", 1}}, kSafetySdParams));
-    });
-}
-
-TEST(SafetyExterior, ExactFromExteriorViewsCc) {
-    exactFromExteriorViews("CC cyl_ext + cone_all", [](std::shared_ptr<const Surface> s) {
-        return *makeSafetyCcTracer(testing::inputFor(s, {{"exterior", 1}}, kSafetyCcParams));
-    });
-    exactFromExteriorViews("CC cyl_ext + cone_ext", [](std::shared_ptr<const Surface> s) {
-        return *makeSafetyCcTracer(
-            testing::inputFor(s, {{"exterior", 1}, {"exterior-slope", 1}}, kSafetyCcParams));
-    });
-    exactFromExteriorViews("CC cone_ext phi-max -45", [](std::shared_ptr<const Surface> s) {
-        return *makeSafetyCcTracer(testing::inputFor(
-            s, {{"exterior", 1}, {"exterior-slope", 1}, {"phi-max", -45}}, kSafetyCcParams));
-    }, -45.0);
-}
-
-// Shadow rays and cameras inside the box: the exterior maps are not used, the exact walk is.
-TEST(SafetyExterior, InteriorOriginsStayExact) {
-    for (const char* g : {"walls", "spikes", "fig11", "fbm"}) {
-        auto s = makeSurface(g, 48, 40, EdgeMode::Clamp, 0.25f);
-        ::relief::testing::RaySets sets(*s, 5);
-        const std::vector<Ray> rays = sets.fromAboveSurface(20000);
-        const auto sd = *makeSafetySdTracer(testing::inputFor(s, {{"exterior", 1}}, kSafetySdParams));
-        const auto cc = *makeSafetyCcTracer(
-            testing::inputFor(s, {{"exterior", 1}, {"exterior-slope", 1}}, kSafetyCcParams));
-        for (const auto& t : {testing::tally(sd, *s, rays), testing::tally(cc, *s, rays)}) {
-            EXPECT_EQ(t.wrong, 0u) << g;
-            EXPECT_EQ(t.beyond, 0u) << g;
-        }
-        EXPECT_GT(sd.fallbacks(), 0u);
-    }
+    // The rows refusing them: safety_sd/safety_sd_test.cpp, safety_cc/safety_cc_test.cpp.
 }
 
 }  // namespace

@@ -662,11 +662,12 @@ float coneSlopeDirect(const Surface& s, int cls, int i, int j, int r, float zc, 
     return slope == -kInfinity ? 0.0f : slope;
 }
 
-ConeMap buildConeMap(const Surface& s, const DistanceMap& radii, const BuildOptions& options) {
+CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
+                             const BuildOptions& options) {
     const int w = s.width(), h = s.height();
     const size_t plane = size_t(w) * size_t(h);
     const int classes = options.isotropic ? 1 : kClassCount;
-    ConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
+    CylinderConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
     // All four classes are needed even for the isotropic map (its plane bounds all of them).
     std::vector<ConeTexel> perClass(size_t(kClassCount) * plane);
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
@@ -816,7 +817,7 @@ Result<DistanceMap> distanceMapFromArrays(const TechniqueMaps& maps, int width, 
     return map;
 }
 
-TechniqueMaps coneMapToArrays(const std::string& technique, const ConeMap& map,
+TechniqueMaps coneMapToArrays(const std::string& technique, const CylinderConeMap& map,
                               const BuildOptions& options) {
     TechniqueMaps out{technique, parameterText(options), {}};
     for (int c = 0; c < map.classes; ++c) {
@@ -832,12 +833,12 @@ TechniqueMaps coneMapToArrays(const std::string& technique, const ConeMap& map,
     return out;
 }
 
-Result<ConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, int height) {
+Result<CylinderConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, int height) {
     auto options = optionsFromArrays(maps);
     if (!options) return options.error();
     const int classes = options->isotropic ? 1 : kClassCount;
     const size_t plane = size_t(width) * size_t(height);
-    ConeMap map{width, height, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
+    CylinderConeMap map{width, height, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
     for (int c = 0; c < classes; ++c) {
         const std::string name = coneArrayName(c, classes);
         const MapArray* a = maps.find(name);

@@ -73,7 +73,8 @@ struct ConeTexel {
     float zc = 0.0f;
 };
 
-struct ConeMap {
+// The cylinder-cone map of §6.3 (the cone rows' map is relief::ConeMap, common/cone_maps.h).
+struct CylinderConeMap {
     int width = 0, height = 0, classes = 0;
     std::vector<ConeTexel> texels;  // [class][row][column]
 
@@ -88,7 +89,8 @@ struct ConeMap {
 
 DistanceMap buildDistanceMap(const Surface& surface, const BuildOptions& options);
 // The slanted planes for the radii in `radii` (directional or isotropic, as options say).
-ConeMap buildConeMap(const Surface& surface, const DistanceMap& radii, const BuildOptions& options);
+CylinderConeMap buildConeMap(const Surface& surface, const DistanceMap& radii,
+                             const BuildOptions& options);
 
 // ---- Single-texel pieces, exposed for the tests ----
 
@@ -150,10 +152,10 @@ float coneSlopeDirect(const Surface& surface, int cls, int i, int j, int r, floa
 
 TechniqueMaps distanceMapToArrays(const std::string& technique, const DistanceMap& map,
                                   const BuildOptions& options);
-TechniqueMaps coneMapToArrays(const std::string& technique, const ConeMap& map,
+TechniqueMaps coneMapToArrays(const std::string& technique, const CylinderConeMap& map,
                               const BuildOptions& options);
 Result<DistanceMap> distanceMapFromArrays(const TechniqueMaps& maps, int width, int height);
-Result<ConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, int height);
+Result<CylinderConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, int height);
 // The build options recorded in baked maps ("phi-max", "isotropic").
 Result<BuildOptions> optionsFromArrays(const TechniqueMaps& maps);
 

@@ -5,7 +5,7 @@
 // Departures: rays outside φ_max (or, with exterior maps, from inside the box) are not counted (fallbacks() is a CPU statistic), and the φ_max
 // test uses a float tan of the maps' "phi-max" (the C++ a double one): a ray within rounding of
 // that bound may take the exact walk on one side only, with the same hit and other step counts.
-// requires: common_cell_walk.glsl
+// requires: surface/cell_walk.glsl
 
 int shapeStep(int cls, int i, int j, float z, float slope);
 

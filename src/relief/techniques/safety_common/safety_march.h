@@ -11,7 +11,7 @@
 // one, which the bisection keeps in its interval. A position classified "below" only within the
 // margin may be a false alarm: the final exact test then finds nothing and the march resumes
 // from there (it is above S by that same test).
-#include <relief/surface/cell_intersect.h>
+#include <relief/surface/cell_walk.h>
 #include <relief/techniques/safety_common/safety_maps.h>
 #include <relief/techniques/technique.h>
 
@@ -82,7 +82,7 @@ private:
 // safety_cc.h), s_d = the ray's rise per centerline.
 class ConeShape {
 public:
-    explicit ConeShape(std::shared_ptr<const ConeMap> map) : m_map(std::move(map)) {}
+    explicit ConeShape(std::shared_ptr<const CylinderConeMap> map) : m_map(std::move(map)) {}
     int step(int cls, int i, int j, float z, float slope) const {
         const ConeTexel& c = m_map->at(cls, i, j);
         const float above = z - c.z0;
@@ -91,10 +91,10 @@ public:
         if (closing <= 0.0f) return kFarStep;  // the ray rises at least as fast as the cone
         return std::max(c.r, int(std::min(above / closing, float(kFarStep))));
     }
-    const ConeMap& map() const { return *m_map; }
+    const CylinderConeMap& map() const { return *m_map; }
 
 private:
-    std::shared_ptr<const ConeMap> m_map;
+    std::shared_ptr<const CylinderConeMap> m_map;
 };
 
 template <class Shape>
@@ -129,7 +129,9 @@ private:
         }
     };
 
-    bool cellsHit(const Ray& ray, float ta, float tb, bool toExit, Hit& hit) const;
+    bool cellsHit(const Ray& ray, float ta, float tb, bool toExit, Hit& hit) const {
+        return relief::cellsHit(*m_surface, ray, ta, tb, toExit, hit);  // surface/cell_walk.h
+    }
     float sampleAB(int axis, int a, int b) const {
         return axis == 0 ? m_surface->sampleZ(a, b) : m_surface->sampleZ(b, a);
     }
@@ -138,11 +140,6 @@ private:
     int fetchStep(const Walk& w, int n, Hit& hit) const;
     bool finalHit(const Walk& w, int lo, int hi, Hit& hit) const;
     bool linearHit(const Walk& w, int lo, int hi, Hit& hit) const;
-    static void setHit(const Ray& ray, float t, Hit& hit) {
-        hit.hit = true;
-        hit.t = t;
-        hit.position = ray.at(t);
-    }
 
     std::shared_ptr<const Surface> m_surface;
     Shape m_shape;
@@ -153,50 +150,6 @@ private:
 };
 
 // ---- implementation ----
-
-// The reference walk (exact.h) restricted to [ta, tb]; toExit: tb is the box exit, where leaving
-// through the bottom face is a hit.
-template <class Shape>
-bool SafetyTracer<Shape>::cellsHit(const Ray& ray, float ta, float tb, bool toExit,
-                                   Hit& hit) const {
-    const Surface& s = *m_surface;
-    const vec3& o = ray.origin;
-    const vec3& d = ray.direction;
-    const vec3 start = ray.at(ta);
-    int ci = s.cellOfX(start.x), cj = s.cellOfY(start.y);
-    const int stepX = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
-    const int stepY = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
-    const float invX = 1.0f / d.x, invY = 1.0f / d.y;
-    const bool clamp = s.edge() == EdgeMode::Clamp;
-    for (;;) {
-        const float tx =
-            stepX == 0 ? kInfinity : (float(ci) + (stepX > 0 ? 1.5f : 0.5f) - o.x) * invX;
-        const float ty =
-            stepY == 0 ? kInfinity : (float(cj) + (stepY > 0 ? 1.5f : 0.5f) - o.y) * invY;
-        const float tc = std::max(ta, std::min({tx, ty, tb}));
-        ++hit.steps;
-        hit.fetches += 4;
-        const float t = firstHitInCell(s.cellPlanes(ci, cj), ray, ci, cj, ta, tc);
-        if (t <= tc) {
-            setHit(ray, t, hit);
-            return true;
-        }
-        if (tc >= tb) {
-            const float zEnd = o.z + tb * d.z;
-            const float rounding =
-                4.0f * std::numeric_limits<float>::epsilon() * (std::abs(o.z) + s.depth());
-            if (toExit && d.z < 0.0f && zEnd <= rounding) {
-                setHit(ray, tb, hit);
-                return true;
-            }
-            return false;
-        }
-        if (tx <= ty) ci += stepX; else cj += stepY;
-        if (clamp && (ci < -1 || ci > s.width() - 1 || cj < -1 || cj > s.height() - 1))
-            return false;
-        ta = tc;
-    }
-}
 
 template <class Shape>
 float SafetyTracer<Shape>::aboveAt(const Walk& w, int n, Hit& hit) const {

@@ -1,33 +1,26 @@
-// safety-sd and safety-cc (one typed suite): the contract for the parameter variants the generic
-// harness does not cover (isotropic, φ_max, baked maps), shadow rays, and the measured error of
-// the §7 options.
-#include <relief/techniques/safety_common/safety_test_support.h>
+#pragma once
+// The cases both safety rows must pass (one typed suite, instantiated with the row's traits by
+// safety_sd/safety_sd_test.cpp and safety_cc/safety_cc_test.cpp): the contract for the parameter
+// variants the generic harness does not cover (isotropic, φ_max, baked maps), shadow rays, the
+// measured error of the §7 options, and exact rendering from exterior views (exterior maps).
+#include <support/safety_test_support.h>
 
 #include <relief/techniques/registry.h>
-#include <relief/techniques/safety_cc/safety_cc.h>
-#include <relief/techniques/safety_sd/safety_sd.h>
 
-namespace relief {
-namespace {
+namespace relief::safety_cases {
 
 using safety::testing::contractOnAllMaps;
 using safety::testing::inputFor;
 using safety::testing::makeSurface;
 using safety::testing::Tally;
 
-struct Sd {
-    using Tracer = SafetySdTracer;
-    static constexpr const char* kName = "safety-sd";
-    static auto make(const TechniqueInput& input) { return makeSafetySdTracer(input); }
-    static auto build(const TechniqueInput& input) { return buildSafetySdMaps(input); }
-    static constexpr std::span<const ParamSpec> params() { return kSafetySdParams; }
-};
-struct Cc {
-    using Tracer = SafetyCcTracer;
-    static constexpr const char* kName = "safety-cc";
-    static auto make(const TechniqueInput& input) { return makeSafetyCcTracer(input); }
-    static auto build(const TechniqueInput& input) { return buildSafetyCcMaps(input); }
-    static constexpr std::span<const ParamSpec> params() { return kSafetyCcParams; }
+// A row's traits (add `static constexpr const char* kName`).
+template <class TracerType, auto kMake, auto kBuild, const std::span<const ParamSpec>& kParams>
+struct Row {
+    using Tracer = TracerType;
+    static auto make(const TechniqueInput& input) { return kMake(input); }
+    static auto build(const TechniqueInput& input) { return kBuild(input); }
+    static constexpr std::span<const ParamSpec> params() { return kParams; }
 };
 
 template <class T>
@@ -41,16 +34,15 @@ auto maker(std::vector<std::pair<std::string, double>> params) {
     return [=](std::shared_ptr<const Surface> s) { return *T::make(input<T>(std::move(s), params)); };
 }
 
-std::string label(const char* technique, const std::string& what) {
+inline std::string label(const char* technique, const std::string& what) {
     return std::string(technique) + " " + what;
 }
 
 template <class T>
 class SafetyTracer : public ::testing::Test {};
-using SafetyTechniques = ::testing::Types<Sd, Cc>;
-TYPED_TEST_SUITE(SafetyTracer, SafetyTechniques);
+TYPED_TEST_SUITE_P(SafetyTracer);
 
-TYPED_TEST(SafetyTracer, ExactIsotropic) {
+TYPED_TEST_P(SafetyTracer, ExactIsotropic) {
     using T = TypeParam;
     const Tally t = contractOnAllMaps(maker<T>({{"isotropic", 1}}), 1200,
                                       label(T::kName, "isotropic").c_str());
@@ -59,7 +51,7 @@ TYPED_TEST(SafetyTracer, ExactIsotropic) {
 }
 
 // Rays outside φ_max take the exact walk: still exact, and counted.
-TYPED_TEST(SafetyTracer, ExactWithPhiMax) {
+TYPED_TEST_P(SafetyTracer, ExactWithPhiMax) {
     using T = TypeParam;
     for (double phi : {-45.0, 30.0}) {
         const Tally t = contractOnAllMaps(maker<T>({{"phi-max", phi}}), 1200,
@@ -105,7 +97,7 @@ Tally shadowRays(Make make, const char* label) {
     return all;
 }
 
-TYPED_TEST(SafetyTracer, ShadowRaysMatchExact) {
+TYPED_TEST_P(SafetyTracer, ShadowRaysMatchExact) {
     using T = TypeParam;
     const Tally t = shadowRays(maker<T>({}), T::kName);
     EXPECT_EQ(t.wrong + t.beyond, 0u);
@@ -113,7 +105,7 @@ TYPED_TEST(SafetyTracer, ShadowRaysMatchExact) {
 }
 
 // §7 options are approximate: report their error, keep it small.
-TYPED_TEST(SafetyTracer, ApproximateVariantsMeasured) {
+TYPED_TEST_P(SafetyTracer, ApproximateVariantsMeasured) {
     using T = TypeParam;
     for (const char* name : {"view-dependent", "positive-distance"}) {
         const Tally t = contractOnAllMaps(maker<T>({{name, 1}}), 1200,
@@ -124,7 +116,7 @@ TYPED_TEST(SafetyTracer, ApproximateVariantsMeasured) {
     }
 }
 
-TYPED_TEST(SafetyTracer, BakedMapsRoundTrip) {
+TYPED_TEST_P(SafetyTracer, BakedMapsRoundTrip) {
     using T = TypeParam;
     auto s = makeSurface("walls", 40, 30, EdgeMode::Repeat, 0.25f);
     const TechniqueInput restricted = input<T>(s, {{"phi-max", -30}});
@@ -153,12 +145,12 @@ TYPED_TEST(SafetyTracer, BakedMapsRoundTrip) {
 
 // With all rays allowed, fbm at this depth leaves mostly r = 0 (the walk is then about the
 // naive one); restricted to steep views (φ_max = −45°) the distances grow and steps drop.
-TYPED_TEST(SafetyTracer, FewerStepsThanTheReferenceWithinPhiMax) {
+TYPED_TEST_P(SafetyTracer, FewerStepsThanTheReferenceWithinPhiMax) {
     using T = TypeParam;
     auto s = makeSurface("fbm", 256, 256, EdgeMode::Clamp, 0.1f);
     const typename T::Tracer all = *T::make(input<T>(s, {}));
     const typename T::Tracer steep = *T::make(input<T>(s, {{"phi-max", -45}}));
-    const ExactTracer exact(s);
+    const relief::testing::ReferenceTracer exact(s);
     ::relief::testing::RaySets sets(*s, 4);
     size_t steps = 0, stepsAll = 0, reference = 0, rays = 0;
     for (const Ray& r : sets.fromOutside(4000)) {
@@ -175,12 +167,60 @@ TYPED_TEST(SafetyTracer, FewerStepsThanTheReferenceWithinPhiMax) {
     EXPECT_LT(steps, reference);
 }
 
-TYPED_TEST(SafetyTracer, RegistryRow) {
+TYPED_TEST_P(SafetyTracer, RegistryRow) {
     const TechniqueInfo* info = findTechnique(TypeParam::kName);
     ASSERT_NE(info, nullptr);
     EXPECT_EQ(info->contract, Contract::Exact);
     EXPECT_NE(info->buildMaps, nullptr);
 }
 
-}  // namespace
-}  // namespace relief
+// ---- Exterior maps (§6.2): rendering from exterior views, interior origins ----
+
+// Exterior views of seven reliefs are exact; the only fallbacks are rays outside φ_max.
+template <class Make>
+void exactFromExteriorViews(const char* label, Make make, double phiMax = 90.0) {
+    uint32_t seed = 41;
+    size_t total = 0;
+    for (const char* g : {"walls", "spikes", "fig11", "fbm", "terraces", "peaks6", "sine"}) {
+        auto s = makeSurface(g, 48, 40, EdgeMode::Clamp, 0.25f);
+        const auto tracer = make(s);
+        ::relief::testing::RaySets sets(*s, seed++);
+        std::vector<Ray> rays = sets.fromOutside(90000);
+        std::mt19937 rng(seed);
+        for (const Ray& r : safety::testing::exteriorRays(*s, 20000, rng)) rays.push_back(r);
+        const auto t = safety::testing::tally(tracer, *s, rays);
+        EXPECT_EQ(t.wrong, 0u) << label << " " << g;
+        EXPECT_EQ(t.beyond, 0u) << label << " " << g;
+        size_t outsidePhi = 0;  // the only fallbacks: every origin is exterior
+        for (const Ray& r : rays)
+            outsidePhi += !s->clip(r).empty() &&
+                          !safety::rayWithinPhiMax(r.direction, safety::tanPhiMax(phiMax));
+        EXPECT_EQ(tracer.fallbacks(), outsidePhi) << label << " " << g;
+        total += t.rays;
+        std::printf("[ safety   ] %-28s %-8s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
+                    "max |dt| %.3g\n", label, g, t.rays, t.wrong, t.beyond, t.maxError);
+    }
+    EXPECT_GE(total, size_t(7e5));
+}
+
+// Shadow rays and cameras inside the box: the exterior maps are not used, the exact walk is
+// (`countsFallbacks`: and each such ray is counted).
+template <class Make>
+void interiorOriginsStayExact(Make make, bool countsFallbacks) {
+    for (const char* g : {"walls", "spikes", "fig11", "fbm"}) {
+        auto s = makeSurface(g, 48, 40, EdgeMode::Clamp, 0.25f);
+        ::relief::testing::RaySets sets(*s, 5);
+        const std::vector<Ray> rays = sets.fromAboveSurface(20000);
+        const auto tracer = make(s);
+        const auto t = safety::testing::tally(tracer, *s, rays);
+        EXPECT_EQ(t.wrong, 0u) << g;
+        EXPECT_EQ(t.beyond, 0u) << g;
+        if (countsFallbacks) EXPECT_GT(tracer.fallbacks(), 0u) << g;
+    }
+}
+
+REGISTER_TYPED_TEST_SUITE_P(SafetyTracer, ExactIsotropic, ExactWithPhiMax, ShadowRaysMatchExact,
+                            ApproximateVariantsMeasured, BakedMapsRoundTrip,
+                            FewerStepsThanTheReferenceWithinPhiMax, RegistryRow);
+
+}  // namespace relief::safety_cases

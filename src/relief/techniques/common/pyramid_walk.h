@@ -21,7 +21,7 @@
 // the origin a position within an ulp of an edge rounds onto it, and a ray running along the edge
 // would then be walked in the wrong row of cells (seen at 4096², fixed, and kept in the tests).
 #include <relief/surface/cell_intersect.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/common/max_pyramid.h>
 #include <relief/techniques/technique.h>
 
 #include <algorithm>
@@ -237,7 +237,7 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
 
-// What quadtree/pyramid_walk.glsl and the three walks' GLSL read (their rows' glslConstants).
+// What common/pyramid_walk.glsl and the three walks' GLSL read (their rows' glslConstants).
 inline constexpr GlslConstant kPyramidWalkGlslConstants[] = {
     {"kAscentNone", double(int(Ascent::None)), true},
     {"kAscentParent", double(int(Ascent::Parent)), true},

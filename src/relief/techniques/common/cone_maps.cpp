@@ -1,7 +1,8 @@
-#include <relief/techniques/cone/cone_common.h>
+#include <relief/techniques/common/cone_maps.h>
 
 #include <relief/core/parallel.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/surface/cell_cursor.h>
+#include <relief/techniques/common/max_pyramid.h>
 
 #include <fmt/format.h>
 
@@ -11,6 +12,14 @@
 #include <limits>
 
 namespace relief {
+
+Status checkConeParams(const ParamValues& params, std::string_view technique) {
+    const int bits = params.getInt("bits");
+    if (bits != 8 && bits != 16 && bits != 32)
+        return makeError(ErrorKind::BadArgument, "{}: bits must be 8, 16 or 32 (got {})",
+                         technique, bits);
+    return {};
+}
 
 namespace {
 

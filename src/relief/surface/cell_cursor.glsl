@@ -1,7 +1,7 @@
-// The cell cursor of the map-stepping techniques' exact parts — GLSL twin of cellAt and
-// exitsThroughFloor in techniques/cone/cone_common.h, used by cone, relaxed-cone and qdm: the
-// cell a ray is in at t and where it leaves it, whether leaving the box is a floor hit, and a
-// Hit at t. A technique file names it on a `// requires: common_cell_cursor.glsl` line.
+// The cell cursor of the map-stepping tracers' exact parts (cone, relaxed-cone, qdm) — GLSL twin
+// of cellAt, exitsThroughFloor and hitAt in src/relief/surface/cell_cursor.h: the cell a ray is
+// in at t and where it leaves it, whether leaving the box is a floor hit, and a Hit at t. A
+// shader names it on a `// requires: surface/cell_cursor.glsl` line.
 
 struct CellSpan {
     int ci, cj;

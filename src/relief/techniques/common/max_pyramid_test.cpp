@@ -1,8 +1,8 @@
 // The max pyramid's invariant by brute force: every node equals the max of the corner samples of
 // the cells it covers, and is ≥ S sampled densely over its footprint (odd sizes, both modes).
 #include <gtest/gtest.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
-#include <relief/techniques/quadtree/walk_test_support.h>
+#include <relief/techniques/common/max_pyramid.h>
+#include <support/walk_test_support.h>
 
 #include <chrono>
 

@@ -94,7 +94,7 @@ public:
     }
     size_t bytes() const { return m_values.size() * sizeof(float); }
 
-    // Baked form (quadtree_maps.cpp): arrays "level0" .. "level<top>", level L of
+    // Baked form (max_pyramid_maps.cpp): arrays "level0" .. "level<top>", level L of
     // widthAt(L) × heightAt(L) nodes, 1 channel, row-major (untiled).
     std::vector<MapArray> toArrays() const;
     // From those arrays; an error naming the array when one is missing or has the wrong size.
@@ -115,7 +115,7 @@ private:
     std::array<Level, PyramidLayout::kMaxLevels> m_levels{};
 };
 
-// The pyramid to trace with: from input.maps (checked) or built now (quadtree_maps.cpp).
+// The pyramid to trace with: from input.maps (checked) or built now (max_pyramid_maps.cpp).
 struct TechniqueInput;
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input);
 // input's pyramid as the baked maps of `technique` ("quadtree", "maxmip").

@@ -1,7 +1,6 @@
 #pragma once
-// Shared by `cone` and `relaxed-cone`: the cone map (one apex height and one cone ratio per
-// texel), its builders, its 8/16/32-bit encodings and the cell cursor both tracers use for
-// their exact parts.
+// Shared by `cone` and `relaxed-cone` (and `qdm`, for the safe apex): the cone map (one apex
+// height and one cone ratio per texel), its builders and its 8/16/32-bit encodings.
 //
 // Texel (i, j) has the footprint F = [i, i+1] × [j, j+1] (its sample sits at the centre). A map
 // entry (a, c) describes the frustum K = {(x, y, z) : dist((x, y), F) ≤ c·(z − a)}: the cone of
@@ -31,7 +30,7 @@
 // reach (S is continuous and piecewise planar, so S stays above such a ray: no exit to find),
 // per candidate and bounded over whole pyramid nodes; the steepest planes come from max filters
 // of the cell slopes (6 window sizes, 24 bytes per cell). Maps equal the full walks' to the bit.
-// Search: a max pyramid over the cells (quadtree/max_pyramid.h). A node is skipped when its
+// Search: a max pyramid over the cells (common/max_pyramid.h). A node is skipped when its
 // maximum is ≤ a or dist(F, node) ≥ c·(max − a) (no cell in it can lower c; tested squared with
 // a 1e-5 margin so that rounding never skips the cell that sets c). Per texel: c starts at the
 // ratio of the cell that set the previous texel's c (texels go boustrophedon through a run of
@@ -105,9 +104,9 @@ std::vector<vec2> buildConesBruteForce(const Surface& surface, ConeKind kind);
 float safeApexHeight(const Surface& surface, int i, int j);
 
 // The texels as stored at `encoding` (rounded towards the safe side), and back. Decoding 16/8-bit
-// codes widens the rounding margin by this much (also the GLSL decode, cone/cone_map.glsl).
+// codes widens the rounding margin by this much (also the GLSL decode, common/cone_maps.glsl).
 inline constexpr float kConeDecodeMargin = 1.0f / float(1 << 20);
-// What cone/cone_map.glsl reads (relaxed-cone's glslConstants; cone's row adds kConeStall).
+// What common/cone_maps.glsl reads (relaxed-cone's glslConstants; cone's row adds kConeStall).
 inline constexpr GlslConstant kConeMapGlslConstants[] = {
     {"kConeDecodeMargin", double(kConeDecodeMargin), false},
 };
@@ -116,6 +115,8 @@ MapArray encodeCones(const Surface& surface, const std::vector<vec2>& cones,
 ConeMap decodeCones(const Surface& surface, const MapArray& array, const ConeEncoding& encoding);
 
 // Parameters shared by both techniques' create/buildMaps.
+// `bits` must be 8, 16 or 32.
+Status checkConeParams(const ParamValues& params, std::string_view technique);
 ConeEncoding encodingFrom(const ParamValues& params);
 std::map<std::string, std::string> mapParameters(const Surface& surface, int variant,
                                                  const ConeEncoding& encoding);
@@ -127,7 +128,7 @@ Result<std::shared_ptr<const ConeMap>> coneMapFor(const TechniqueInput& input,
 Result<TechniqueMaps> coneTechniqueMaps(const TechniqueInput& input, std::string_view technique,
                                         ConeKind kind, int variant);
 
-// ---- hot helpers shared by the tracers ------------------------------------------------------
+// ---- hot helper shared by the tracers --------------------------------------------------------
 
 // Largest dt such that ray.at(t + dt) stays in the frustum of (a, c) from a position at height
 // z inside the footprint; kInfinity when the ray never leaves it. `horizontal` = |d.xy|.
@@ -136,45 +137,6 @@ inline float coneStep(float z, float a, float c, float horizontal, float dz) {
     const float closing = horizontal - c * dz;
     if (closing <= 0.0f) return room >= 0.0f ? kInfinity : 0.0f;
     return room / closing;
-}
-
-// The cell the ray is in at t, moving along its direction, and where it leaves it (≤ tEnd).
-struct CellSpan {
-    int ci, cj;
-    float tb;
-};
-inline CellSpan cellAt(const Surface& s, const Ray& ray, float t, float tEnd) {
-    const vec3& o = ray.origin;
-    const vec3& d = ray.direction;
-    const vec3 p = ray.at(t);
-    auto exitAlong = [](int cell, float origin, float dir) {
-        if (dir == 0.0f) return kInfinity;
-        return (float(cell) + (dir > 0.0f ? 1.5f : 0.5f) - origin) / dir;
-    };
-    int ci = int(std::floor(p.x - 0.5f)), cj = int(std::floor(p.y - 0.5f));
-    float tx = exitAlong(ci, o.x, d.x), ty = exitAlong(cj, o.y, d.y);
-    if (tx <= t) tx = exitAlong(ci += d.x > 0.0f ? 1 : -1, o.x, d.x);  // on the edge: move on
-    if (ty <= t) ty = exitAlong(cj += d.y > 0.0f ? 1 : -1, o.y, d.y);
-    if (s.edge() == EdgeMode::Clamp) {
-        ci = std::clamp(ci, -1, s.width() - 1);
-        cj = std::clamp(cj, -1, s.height() - 1);
-    }
-    return {ci, cj, std::max(t, std::min({tx, ty, tEnd}))};
-}
-
-// Leaving the box through its bottom face reaches z = 0 ≤ S (see ExactTracer).
-inline bool exitsThroughFloor(const Surface& s, const Ray& ray, float tExit) {
-    const float zExit = ray.origin.z + tExit * ray.direction.z;
-    const float zRounding =
-        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(ray.origin.z) + s.depth());
-    return ray.direction.z < 0.0f && zExit <= zRounding;
-}
-
-inline Hit hitAt(const Ray& ray, float t, Hit hit) {
-    hit.hit = true;
-    hit.t = t;
-    hit.position = ray.at(t);
-    return hit;
 }
 
 }  // namespace relief

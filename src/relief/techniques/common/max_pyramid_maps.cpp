@@ -1,8 +1,8 @@
-// The max pyramid as baked maps (shared by `quadtree` and `maxmip`): one array per level,
-// "level0" .. "level<top>", row-major, one float per node (max_pyramid.h). The GL backend reads
-// the same arrays (gl/shader_interface.h), so this is also the GPU layout.
-#include <relief/techniques/maxmip/maxmip.h>
-#include <relief/techniques/quadtree/quadtree.h>
+// The max pyramid as baked maps (shared by `quadtree`, `maxmip` and `quadtree-oriented`): one
+// array per level, "level0" .. "level<top>", row-major, one float per node (max_pyramid.h). The GL
+// backend reads the same arrays (gl/shader_interface.h), so this is also the GPU layout.
+#include <relief/techniques/common/max_pyramid.h>
+#include <relief/techniques/technique.h>
 
 #include <algorithm>
 
@@ -78,10 +78,6 @@ Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_vi
     maps.technique = std::string(technique);
     maps.arrays = MaxPyramid(*input.surface).toArrays();
     return maps;
-}
-
-Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input) {
-    return maxPyramidMaps(input, "quadtree");
 }
 
 }  // namespace relief

@@ -1,5 +1,5 @@
 #include <relief/core/parallel.h>
-#include <relief/techniques/quadtree/max_pyramid.h>
+#include <relief/techniques/common/max_pyramid.h>
 
 #include <algorithm>
 #include <bit>

@@ -2,10 +2,10 @@
 // Test helpers shared by safety_sd_test.cpp, safety_cc_test.cpp and safety_common_test.cpp:
 // surfaces (standard generators and the paper's Fig. 11 kind of relief), an exact count of how
 // often a ray passes between above and below S, and a tally against the exact reference.
-#include "../../../../tests/ray_sets.h"
+#include <support/ray_sets.h>
+#include <support/reference_tracer.h>
 
 #include <relief/core/generators.h>
-#include <relief/techniques/exact/exact.h>
 #include <relief/techniques/safety_common/safety_march.h>
 
 #include <gtest/gtest.h>
@@ -121,7 +121,7 @@ struct Tally {
 
 template <class T>
 Tally tally(const T& tracer, const Surface& s, const std::vector<Ray>& rays) {
-    const ExactTracer exact(std::make_shared<const Surface>(s));
+    const relief::testing::ReferenceTracer exact(std::make_shared<const Surface>(s));
     Tally t;
     for (const Ray& r : rays) t.add(tracer.trace(r), exact.trace(r));
     return t;
@@ -176,6 +176,35 @@ Tally contractOnAllMaps(Make make, int perKind, const char* label, bool exact = 
                 "mean |dt| %.3g, max |dt| %.3g\n",
                 label, all.rays, all.wrong, all.beyond, all.far, all.meanError(), all.maxError);
     return all;
+}
+
+// Rays from outside the box: far around it, and low at its sides (grazing rays through the side
+// walls, the ones that see under overhanging views), aimed at random points of the box.
+inline std::vector<Ray> exteriorRays(const Surface& s, int count, std::mt19937& rng) {
+    auto uniform = [&](double lo, double hi) {
+        return float(std::uniform_real_distribution<>(lo, hi)(rng));
+    };
+    const vec3 size(float(s.width()), float(s.height()), s.depth());
+    std::vector<Ray> rays;
+    for (int k = 0; k < count; ++k) {
+        vec3 o;
+        if (k % 2) {
+            const float el = glm::radians(uniform(-2.0, 89.0)), az = uniform(0.0, 6.2832);
+            const float radius = uniform(0.6, 3.0) * glm::length(size);
+            o = 0.5f * size + radius * vec3(std::cos(el) * std::cos(az),
+                                            std::cos(el) * std::sin(az), std::sin(el));
+        } else {  // just outside a side face, at any height up to above the top
+            const int side = k / 2 % 4;
+            const float u = uniform(0, 1), z = uniform(0, 1.3 * s.maxZ() + 0.1);
+            o = side == 0   ? vec3(-uniform(0.01, 3), u * size.y, z)
+                : side == 1 ? vec3(size.x + uniform(0.01, 3), u * size.y, z)
+                : side == 2 ? vec3(u * size.x, -uniform(0.01, 3), z)
+                            : vec3(u * size.x, size.y + uniform(0.01, 3), z);
+        }
+        const vec3 target(uniform(0, size.x), uniform(0, size.y), uniform(0, s.maxZ() + 0.1));
+        rays.push_back(Ray{o, glm::normalize(target - o), kInfinity});
+    }
+    return rays;
 }
 
 }  // namespace relief::safety::testing

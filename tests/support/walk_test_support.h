@@ -1,9 +1,10 @@
 #pragma once
 // Test support shared by the quadtree, maxmip and quadtree-oriented tests: adversarial ray
 // families and the comparison with the reference `exact` (DESIGN §3, contract "exact").
+#include <support/reference_tracer.h>
+
 #include <gtest/gtest.h>
 #include <relief/core/generators.h>
-#include <relief/techniques/exact/exact.h>
 
 #include <cmath>
 #include <cstdio>
@@ -229,7 +230,7 @@ struct Tally {
 template <class Impl>
 void compareWithExact(const Impl& tracer, const std::shared_ptr<const Surface>& surface,
                       const std::vector<Ray>& rays, const std::string& what, Tally& tally) {
-    const ExactTracer exact(surface);
+    const testing::ReferenceTracer exact(surface);
     for (const Ray& ray : rays) {
         const Hit ref = exact.trace(ray);
         const Hit got = tracer.trace(ray);
@@ -275,7 +276,7 @@ void cursorNeverPassesFirstHit(Make make, const std::string& what) {
                              MapSpec{"walls", 33, 17, EdgeMode::Repeat, 0.3f},
                              MapSpec{"spikes", 64, 64, EdgeMode::Clamp, 1.0f}}) {
         const auto surface = makeSurface(m, 3);
-        const ExactTracer exact(surface);
+        const testing::ReferenceTracer exact(surface);
         RayMaker maker(*surface, 5);
         for (int cap : {1, 3, 8, 20}) {
             const auto tracer = make(surface, cap);

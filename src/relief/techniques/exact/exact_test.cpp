@@ -2,7 +2,7 @@
 // over the solid's triangles on small adversarial maps, and against Embree on the same triangles
 // with 10^5+ rays on larger maps. Every disagreement is classified; the kinds that are not
 // `exact`'s fault each have a named test below that shows one and says who is right.
-#include "brute_force.h"
+#include <support/brute_force.h>
 
 #include <relief/core/generators.h>
 #include <relief/embree/embree_scene.h>

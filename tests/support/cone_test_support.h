@@ -1,7 +1,7 @@
 #pragma once
 // Test helpers shared by cone_test.cpp and relaxed_cone_test.cpp: a tally of a registry
 // technique (with parameter overrides) against `exact` on the contract harness's ray sets.
-#include "../../../../tests/ray_sets.h"
+#include <support/ray_sets.h>
 
 #include <relief/core/generators.h>
 #include <relief/techniques/registry.h>

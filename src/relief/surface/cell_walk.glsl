@@ -1,7 +1,7 @@
-// The reference walk (exact.h) over [ta, tb], for tracers that walk cells for part of a ray.
-// Mirrors relief::safety::SafetyTracer::cellsHit (safety_common/safety_march.h); over the whole
-// clipped span with toExit it is ExactTracer::trace (exact.h), counts included. Not part of every
-// program: a technique file names it on a `// requires: common_cell_walk.glsl` line.
+// The reference walk over [ta, tb] — GLSL twin of cellsHit and setHit in
+// src/relief/surface/cell_walk.h; over the whole clipped span with toExit it is the `exact` row's
+// tracer (exact.glsl), counts included. Not part of every program: a shader names it on a
+// `// requires: surface/cell_walk.glsl` line.
 // Departure: the loop has a cap that valid rays never reach (a NaN ray must not hang the GPU).
 
 void setHit(Ray ray, float t, inout Hit hit) {
@@ -10,7 +10,8 @@ void setHit(Ray ray, float t, inout Hit hit) {
     hit.position = at(ray, t);
 }
 
-// The reference walk (exact.glsl) restricted to [ta, tb]; toExit: tb is the box exit.
+// First hit on S in [ta, tb]; toExit: tb is the box exit, where leaving through the bottom face
+// is a hit.
 bool cellsHit(Ray ray, float ta, float tb, bool toExit, inout Hit hit) {
     const vec3 o = ray.origin;
     const vec3 d = ray.direction;

@@ -1,8 +1,8 @@
 // The cone map shared by cone and relaxed-cone — GLSL twin of relief::ConeMap::at and
-// decodeCones (cone/cone_common.{h,cpp}): the map array "cones" (2 channels, a and c), decoded
+// decodeCones (common/cone_maps.{h,cpp}): the map array "cones" (2 channels, a and c), decoded
 // per fetch exactly as decodeCones decodes it once (bits and sqrt are the technique's
-// parameters, cMax the map's "cone-max"); the exact parts' cell cursor is common_cell_cursor.glsl.
-// requires: common_cell_cursor.glsl
+// parameters, cMax the map's "cone-max"); the exact parts' cell cursor is surface/cell_cursor.glsl.
+// requires: surface/cell_cursor.glsl
 
 // ConeMap::at: the entry of the texel whose footprint holds (x, y), nearest texel.
 int coneWrap(int i, int n) { return edge() == kEdgeClamp ? clamp(i, 0, n - 1) : wrapIndex(i, n); }

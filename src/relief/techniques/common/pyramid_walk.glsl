@@ -1,9 +1,9 @@
 // The pyramid walk shared by quadtree, maxmip and quadtree-oriented — GLSL twin of
-// src/relief/techniques/quadtree/pyramid_walk.h (walkPyramid and its helpers): the same names,
+// src/relief/techniques/common/pyramid_walk.h (walkPyramid and its helpers): the same names,
 // the same loop, the same step and fetch counts. The C++ template arguments become arguments
 // (the Ascent policy, kAscent*) and a function the technique file defines after this one
 // (boundEnter: the bound of its node, MaxBound::enter being maxBoundEnter here).
-// The max pyramid is the map arrays "level0".. (quadtree_maps.cpp): kMapLevel0 + level.
+// The max pyramid is the map arrays "level0".. (max_pyramid_maps.cpp): kMapLevel0 + level.
 // Departure: the loop has a cap that valid rays never reach (a NaN ray must not hang the GPU).
 
 struct PyramidLayout {

@@ -1,6 +1,8 @@
 #pragma once
 // The stepping algorithm of Fourquet, Cowan & Mann, "Geometric Displacement on Plane and Sphere"
 // (GI 2008), §4, on one visibility curve.
+// Shared by the `curves` row (one ray: techniques/curves/) and the image renderer of the whole
+// method (render/curves/), hence in common/.
 //
 // A visibility curve is parameterized by s (plane: horizontal distance from CoP_s; sphere: the
 // angle θ at the centre from CoP_s). Along it the height field is height(s) and an eye ray of the
