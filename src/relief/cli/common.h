@@ -1,9 +1,10 @@
 #pragma once
 // Option groups shared by the subcommands (DESIGN §3 names) and the glue that turns them into a
-// Surface and a Tracer.
+// Tracer (the Surface comes from render/surface_source.h).
 #include <relief/core/error.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
+#include <relief/render/surface_source.h>
 #include <relief/surface/surface.h>
 #include <relief/techniques/technique.h>
 
@@ -14,18 +15,6 @@
 #include <vector>
 
 namespace relief::cli {
-
-struct SurfaceOptions {
-    std::string source;
-    std::optional<float> depth;
-    float depthRatio = 0.1f;
-    std::string edge = "clamp";
-    bool invert = false;
-    std::string heightRange;  // "LO:HI"
-    std::string raw;          // "WxH:u8|u16|f32"
-    std::string channel = "luminance";
-    int64_t maxSamples = kDefaultMaxSamples;
-};
 
 struct TechniqueOptions {
     std::string name = "exact";
@@ -47,9 +36,8 @@ struct CameraLimits {
 void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
                       const CameraLimits& limits = {});
 
-Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
-Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
-                                                   std::shared_ptr<const Heightfield> hf);
+// SurfaceOptions, loadHeightfield(options) and makeSurface(options, hf) come from
+// render/surface_source.h, shared with the bench.
 // Parameter overrides from --max-steps and --param NAME=VALUE.
 Result<std::vector<std::pair<std::string, double>>> parameterOverrides(const TechniqueOptions& options);
 // The technique's tracer, with its maps from --maps FILE when given (checked against the surface).

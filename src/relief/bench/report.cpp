@@ -1,13 +1,18 @@
-#include <relief/cli/bench_report.h>
+#include <relief/bench/report.h>
+
+#include <relief/bench/peers.h>
+#include <relief/bench/svg_plot.h>
+#include <relief/techniques/registry.h>
 
 #include <fmt/format.h>
 
 #include <cmath>
 #include <map>
+#include <algorithm>
 #include <optional>
 #include <set>
 
-namespace relief::cli {
+namespace relief::bench {
 
 namespace {
 
@@ -64,14 +69,15 @@ private:
     int m_count = 0;
 };
 
-std::string peerOf(const std::string& backend) { return backend == "gl" ? "mesh" : "embree-1"; }
+std::string referenceName() { return std::string(referenceTechnique().name); }
 
 Table summaryTable(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
-    Table t{"Summary", "Per technique and backend, averaged over every map and view at its largest cap. "
-                       "× exact and × peer are speed ratios on the same rays in this run (peer: Embree "
-                       "rtcIntersect1 on the CPU, the rasterized mesh on GL), geometric means over the views."};
+    Table t{"Summary", fmt::format("Per technique and backend, averaged over every map and view at its largest cap. "
+                                   "× {} and × peer are speed ratios on the same rays in this run (peer: Embree "
+                                   "rtcIntersect1 on the CPU, the rasterized mesh on GL), geometric means over the views.",
+                                   referenceName())};
     t.header = {"technique", "contract", "backend", "mean abs err", "p95 abs err", "wrong %", "mean steps"};
-    if (meta.timings) t.header.insert(t.header.end(), {"Mrays/s", "× exact", "× peer", "build s"});
+    if (meta.timings) t.header.insert(t.header.end(), {"Mrays/s", "× " + referenceName(), "× peer", "build s"});
     t.header.push_back("bytes/texel");
     for (const TechniqueSummary& s : summarize(rows, config)) {
         std::vector<std::string> line = {s.technique, s.contract, s.backend, fmt::format("{:.3g}", s.errorMean),
@@ -101,7 +107,8 @@ std::map<std::string, std::map<Key, std::pair<double, double>>> meanBy(const std
 }
 
 Table errorVsCapTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
-    Table t{"Error vs iteration cap", "CPU: mean |t − t_exact| (texels) / wrong-pixel %, over every map and view."};
+    Table t{"Error vs iteration cap",
+            fmt::format("CPU: mean |t − t_{}| (texels) / wrong-pixel %, over every map and view.", referenceName())};
     std::vector<const BenchRow*> capped;
     for (const BenchRow& r : rows)
         if (r.cap > 0) capped.push_back(&r);
@@ -167,10 +174,56 @@ Table allRowsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     return t;
 }
 
+// Builds studies: one row per technique and map size, no views.
+Table buildsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+    Table t{"Map builds", "Map build per technique and map size: wall and process CPU seconds (all threads), "
+                          "and bytes per texel of the maps."};
+    t.header = {"technique", "map"};
+    if (meta.timings) t.header.insert(t.header.end(), {"wall s", "CPU s"});
+    t.header.push_back("bytes/texel");
+    for (const BenchRow& r : rows) {
+        std::vector<std::string> line = {r.technique, r.map};
+        if (meta.timings)
+            line.insert(line.end(), {fmt::format("{:.3f}", r.buildSeconds), fmt::format("{:.3f}", r.buildCpuSeconds)});
+        line.push_back(fmt::format("{:.1f}", r.bytesPerTexel));
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
+// Scaling studies: steps per ray against the map size, every hit checked by the reference.
+Table scalingTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    Table t{"Steps vs map size", fmt::format("CPU, largest cap: mean / p99 steps per ray, and wrong pixels against "
+                                             "{} (of all pixels), per map and elevation.", referenceName())};
+    t.header = {"technique", "map"};
+    for (float e : config.elevations) t.header.push_back(fmt::format("{:.1f}°", e));
+    std::vector<std::pair<std::string, std::string>> keys;
+    for (const BenchRow* r : atLargestCap(rows))
+        if (r->backend == "cpu" && !isPeer(r->technique) &&
+            std::find(keys.begin(), keys.end(), std::pair{r->technique, r->map}) == keys.end())
+            keys.emplace_back(r->technique, r->map);
+    const std::vector<const BenchRow*> selected = atLargestCap(rows);
+    for (const auto& [technique, map] : keys) {
+        std::vector<std::string> line = {technique, map};
+        for (float e : config.elevations) {
+            const BenchRow* found = nullptr;
+            for (const BenchRow* r : selected)
+                if (r->technique == technique && r->map == map && r->elevation == e && r->backend == "cpu") found = r;
+            line.push_back(found ? fmt::format("{:.1f} / {:.0f}, {} wrong", found->stats.steps.mean,
+                                               found->stats.steps.p99, found->stats.wrong)
+                                 : "-");
+        }
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
 std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
+    if (config.kind == StudyKind::Builds) return {buildsTable(rows, meta)};
     std::vector<Table> tables = {summaryTable(rows, config, meta)};
     if (!config.caps.empty()) tables.push_back(errorVsCapTable(rows, config));
     tables.push_back(stepsVsElevationTable(rows, config));
+    if (config.kind == StudyKind::Scaling) tables.push_back(scalingTable(rows, config));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
     return tables;
 }
@@ -210,6 +263,8 @@ std::string runDescription(const BenchMeta& meta) {
     std::string s = fmt::format("Machine: {}; threads: {}; image {}; date {}.", meta.machine, meta.threads,
                                 meta.imageSize, meta.date);
     if (!meta.glDevice.empty()) s += fmt::format(" GL device: {}.", meta.glDevice);
+    if (!meta.loadBefore.empty())
+        s += fmt::format(" Load average before the run: {}; after: {}.", meta.loadBefore, meta.loadAfter);
     return s + " Every row of one map and view traced the same primary rays in one run; times are the best of the "
                "timed repeats.";
 }
@@ -243,8 +298,10 @@ std::vector<TechniqueSummary> summarize(const std::vector<BenchRow>& rows, const
             s.mraysPerSecond += r->mraysPerSecond;
             s.buildSeconds += r->buildSeconds;
             s.bytesPerTexel += r->bytesPerTexel;
-            if (const BenchRow* exact = findRow(selected, *r, "exact")) vsExact.add(r->mraysPerSecond, exact->mraysPerSecond);
-            if (const BenchRow* peer = findRow(selected, *r, peerOf(r->backend))) vsPeer.add(r->mraysPerSecond, peer->mraysPerSecond);
+            if (const BenchRow* ref = findRow(selected, *r, referenceName())) vsExact.add(r->mraysPerSecond, ref->mraysPerSecond);
+            const PeerInfo* peer = summaryPeerOf(r->backend);
+            if (const BenchRow* p = peer ? findRow(selected, *r, std::string(peer->name)) : nullptr)
+                vsPeer.add(r->mraysPerSecond, p->mraysPerSecond);
         }
         for (double* v : {&s.errorMean, &s.errorP95, &s.wrongPercent, &s.stepsMean, &s.mraysPerSecond, &s.buildSeconds, &s.bytesPerTexel})
             *v /= n;
@@ -269,6 +326,81 @@ std::string measuredRatio(const std::vector<BenchRow>& rows, const PaperRatio& r
                 mean.add(num->mraysPerSecond, den->mraysPerSecond);
     }
     return formatRatio(mean.value());
+}
+
+nlohmann::json rowJson(const BenchRow& r, bool timings) {
+    nlohmann::json j = {{"technique", r.technique}, {"contract", r.contract}, {"map", r.map},
+                        {"backend", r.backend}, {"elevation", r.elevation}, {"cap", r.cap},
+                        {"error_mean", r.stats.error.mean}, {"error_p95", r.stats.error.p95},
+                        {"error_max", r.stats.error.max}, {"wrong_rate", r.stats.wrongRate()},
+                        {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},
+                        {"fetches_mean", r.stats.fetches.mean}, {"fetches_max", r.stats.fetches.max},
+                        {"bytes_per_texel", r.bytesPerTexel}, {"images", r.images}};
+    if (timings) {
+        j["mrays_per_s"] = r.mraysPerSecond;
+        j["ms_per_frame"] = r.msPerFrame;
+        j["build_seconds"] = r.buildSeconds;
+        j["build_cpu_seconds"] = r.buildCpuSeconds;
+    }
+    return j;
+}
+
+std::string resultsJson(const std::vector<BenchRow>& rows, const nlohmann::json& meta, bool timings) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const BenchRow& r : rows) list.push_back(rowJson(r, timings));
+    return nlohmann::json{{"meta", meta}, {"rows", list}}.dump(2) + "\n";
+}
+
+std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
+    static const char* const kColumns[] = {"technique", "contract", "map", "backend", "elevation", "cap",
+        "error_mean", "error_p95", "error_max", "wrong_rate", "steps_mean", "steps_max", "fetches_mean",
+        "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel", "build_cpu_seconds"};
+    std::string csv;
+    for (const char* c : kColumns) csv += std::string(c == kColumns[0] ? "" : ",") + c;
+    csv += "\n";
+    for (const BenchRow& r : rows) {
+        const nlohmann::json row = rowJson(r, timings);
+        for (const char* c : kColumns) {
+            const auto it = row.find(c);
+            csv += c == kColumns[0] ? "" : ",";
+            if (it == row.end()) continue;
+            csv += it->is_string() ? it->get<std::string>() : it->dump();
+        }
+        csv += "\n";
+    }
+    return csv;
+}
+
+std::pair<std::string, std::string> benchPlots(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    std::map<std::pair<std::string, double>, std::pair<double, int>> errorSum, stepsSum;
+    for (const BenchRow& r : rows) {
+        if (r.cap > 0) {
+            auto& acc = errorSum[{r.technique, r.cap}];
+            acc.first += r.stats.error.mean;
+            acc.second++;
+        }
+        if (r.cap == 0 || (!config.caps.empty() && r.cap == config.caps.back())) {
+            auto& acc = stepsSum[{r.technique, r.elevation}];
+            acc.first += r.stats.steps.mean;
+            acc.second++;
+        }
+    }
+    auto series = [](const std::map<std::pair<std::string, double>, std::pair<double, int>>& sums) {
+        std::map<std::string, PlotSeries> byName;
+        for (const auto& [key, acc] : sums) {
+            PlotSeries& s = byName[key.first];
+            s.label = key.first;
+            s.x.push_back(key.second);
+            s.y.push_back(acc.first / acc.second);
+        }
+        std::vector<PlotSeries> v;
+        for (const auto& [k, s] : byName) v.push_back(s);
+        return v;
+    };
+    return {svgLinePlot({fmt::format("mean |t - t_{}| vs iteration cap (all maps and views)", referenceName()),
+                         "iteration cap", "mean |error| (texels)", true, true}, series(errorSum)),
+            svgLinePlot({"mean steps per pixel vs camera elevation", "elevation (degrees)", "mean steps", false, true},
+                        series(stepsSum))};
 }
 
 std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta,
@@ -299,7 +431,7 @@ std::string benchHtml(const std::vector<BenchRow>& rows, const BenchConfig& conf
                  "<img src=\"steps_vs_elevation.svg\" style=\"max-width:640px\">";
         h += "<h2>" + htmlEscape(tables[k].title) + "</h2><p>" + htmlEscape(tables[k].caption) + "</p>" + htmlTable(tables[k]);
     }
-    h += "<h2>Images (render, steps, error vs exact)</h2>";
+    h += "<h2>Images (render, steps, error vs " + htmlEscape(referenceName()) + ")</h2>";
     for (const BenchRow& r : rows)
         if (!r.images.empty())
             h += fmt::format("<h3>{} — {} — elevation {:.1f}</h3><img src=\"{}.png\"> <img src=\"{}-steps.png\"> "
@@ -308,4 +440,4 @@ std::string benchHtml(const std::vector<BenchRow>& rows, const BenchConfig& conf
     return h + kSelfCheckScript + "</body></html>\n";
 }
 
-}  // namespace relief::cli
+}  // namespace relief::bench
