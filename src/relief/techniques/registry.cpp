@@ -41,6 +41,71 @@ constexpr VariantSpec kSafetyVariants[] = {
     {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
 };
 
+// The rows' studies: `relief bench --preset NAME` (src/relief/bench/presets.cpp reads them).
+constexpr std::string_view kQdmPaperMaps[] = {"gen:sine:1024x1024", "gen:peaks6:1024x1024", "gen:fbm:1024x1024",
+                                              "gen:terraces:1024x1024", "data/colorado-elevation-400.png",
+                                              "data/finland-topography-400-16bit.png"};
+constexpr std::string_view kQdmPaperRows[] = {"qdm", "cone", "exact"};
+constexpr int kQdmPaperCaps[] = {4, 6, 8, 12, 24, 48, 200};
+constexpr StudySpec kQdmStudies[] = {
+    {.name = "qdm-paper", .description = "quadratic displacement maps vs cone stepping",
+     .maps = kQdmPaperMaps, .techniques = kQdmPaperRows, .caps = kQdmPaperCaps,
+     .paperNotes = "Quadratic displacement maps (Fig. 9-11, Table 1): QDM reaches a given error with fewer "
+                   "iterations than cone step mapping; the time difference per frame grows with the cap."},
+};
+
+constexpr std::string_view kSafetyPaperMaps[] = {"gen:fbm:256x256", "gen:fbm:512x512", "gen:fbm:1024x1024"};
+constexpr std::string_view kSafetyPaperRows[] = {"exact", "linear", "relaxed-cone", "safety-sd", "safety-cc"};
+constexpr float kSafetyPaperElevations[] = {15.3f, 40.2f, 65.1f};
+constexpr int kSafetyPaperCaps[] = {16, 32, 64};
+constexpr PaperRatioSpec kSafetyPaperRatios[] = {
+    {"CC / SD, 256²", "548 / 304 Hz = 1.80× (Table 1)", "safety-cc", "fbm:256x256", "safety-sd", "fbm:256x256"},
+    {"CC / SD, 512²", "444 / 190 Hz = 2.34× (Table 1)", "safety-cc", "fbm:512x512", "safety-sd", "fbm:512x512"},
+    {"CC / SD, 1024²", "313 / 85 Hz = 3.68× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-sd", "fbm:1024x1024"},
+    {"CC 1024² / CC 256²", "313 / 548 Hz = 0.57× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-cc", "fbm:256x256"},
+};
+constexpr StudySpec kSafetyStudies[] = {
+    {.name = "safety-paper", .description = "safety shapes Fig. 29 / Table 1",
+     .maps = kSafetyPaperMaps, .techniques = kSafetyPaperRows, .elevations = kSafetyPaperElevations,
+     .caps = kSafetyPaperCaps, .width = 1280, .height = 1024,
+     .paperNotes = "Precomputed safety shapes (Fig. 29, 512² map covering a 1280×1024 screen, GTX 285): "
+                   "NA is accurate but slow; LS and RC are faster but show artefacts; SD and CC are exact "
+                   "and fastest, CC with φ_max = 45° best. Table 1 gives frame rates without φ_max; NA "
+                   "(our `exact`) is only drawn as a bar in Fig. 29, so it has no ratio here.",
+     .paperRatios = kSafetyPaperRatios},
+};
+
+constexpr std::string_view kQuadtreePaperMaps[] = {"gen:fbm:256x256", "gen:fbm:512x512", "gen:fbm:1024x1024",
+                                                   "gen:fbm:2048x2048"};
+constexpr std::string_view kQuadtreePaperRows[] = {"quadtree", "maxmip", "quadtree-oriented", "linear", "parallax",
+                                                   "exact"};
+constexpr float kQuadtreePaperElevations[] = {15.3f, 52.7f};
+constexpr PaperRatioSpec kQuadtreePaperRatios[] = {
+    {"quadtree 2048² / 256²", "63 / 95 fps = 0.66× (Table 1)", "quadtree", "fbm:2048x2048", "quadtree", "fbm:256x256"},
+    {"quadtree 1024² / 256²", "71 / 95 fps = 0.75× (Table 1)", "quadtree", "fbm:1024x1024", "quadtree", "fbm:256x256"},
+    {"parallax 2048² / 256²", "354 / 360 fps = 0.98× (Table 1)", "parallax", "fbm:2048x2048", "parallax", "fbm:256x256"},
+    {"quadtree / relief mapping, 256²", "95 / 188 fps = 0.51× (Table 1)", "quadtree", "fbm:256x256", "linear", "fbm:256x256"},
+};
+constexpr StudySpec kQuadtreeStudies[] = {
+    {.name = "quadtree-paper", .description = "quadtree scaling 256²-2048²",
+     .maps = kQuadtreePaperMaps, .techniques = kQuadtreePaperRows, .elevations = kQuadtreePaperElevations,
+     .paperNotes = "Quadtree relief mapping: steps grow like log p for steep views and toward sqrt p for "
+                   "grazing ones; the frame rate falls slowly from 256² to 2048² maps (Table 1, average fps "
+                   "over view angles, GeForce 6600GT SLI). The paper's relief mapping doubles its linear "
+                   "steps per doubling of the map; our `linear` keeps its default step count, so its ratio "
+                   "is not comparable.",
+     .paperRatios = kQuadtreePaperRatios},
+};
+
+constexpr std::string_view kCurvesPaperMaps[] = {"gen:sine:512x512"};
+constexpr std::string_view kCurvesPaperRows[] = {"curves", "exact"};
+constexpr float kCurvesPaperElevations[] = {20.0f, 60.0f};
+constexpr StudySpec kCurvesStudies[] = {
+    {.name = "curves-paper", .description = "visibility curves Table 1",
+     .maps = kCurvesPaperMaps, .techniques = kCurvesPaperRows, .elevations = kCurvesPaperElevations,
+     .paperNotes = "Geometric displacement on plane and sphere, Table 1 (sine map, 2 samples per pixel)."},
+};
+
 // clang-format off
 const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
@@ -58,7 +123,8 @@ const TechniqueInfo kTechniques[] = {
     {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
-     .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl", .variants = kQuadtreeVariants},
+     .buildMaps = buildQuadtreeMaps, .glsl = "quadtree/quadtree.glsl", .variants = kQuadtreeVariants,
+     .studies = kQuadtreeStudies},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
@@ -80,7 +146,7 @@ const TechniqueInfo kTechniques[] = {
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
-     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl"},
+     .buildMaps = buildQdmMaps, .glsl = "qdm/qdm.glsl", .studies = kQdmStudies},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
@@ -90,10 +156,11 @@ const TechniqueInfo kTechniques[] = {
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
      .buildMaps = buildSafetyCcMaps, .viewWarning = safety::viewWarning,
-     .glsl = "safety_cc/safety_cc.glsl", .variants = kSafetyVariants},
+     .glsl = "safety_cc/safety_cc.glsl", .variants = kSafetyVariants, .studies = kSafetyStudies},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
-     .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves},
+     .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,
+     .studies = kCurvesStudies},
 };
 // clang-format on
 
