@@ -96,8 +96,36 @@ TEST(BenchCommand, HtmlReportRendersInHeadlessChromium) {
     fs::remove_all(out);
 }
 
+// Every preset (bench-wide and the rows' studies) runs end to end in seconds with --smoke, and
+// --judge holds: exact rows and the CPU peers agree with the reference (exit 4 otherwise).
+TEST(BenchCommand, EveryPresetSmokes) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_smoke_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    const std::string list = std::string(RELIEF_CLI_PATH) + " bench --list-presets > " + (out / "presets.txt").string();
+    ASSERT_EQ(std::system(list.c_str()), 0) << list;
+    std::istringstream presets(readText(out / "presets.txt"));
+    size_t count = 0;
+    for (std::string line; std::getline(presets, line);) {
+        const std::string name = line.substr(0, line.find(' '));
+        const fs::path dir = out / name;
+        const std::string command = std::string(RELIEF_CLI_PATH) + " bench --preset " + name +
+                                    " --smoke --judge --deterministic --no-images --threads 2 --out-dir " +
+                                    dir.string() + " > " + (out / (name + ".log")).string() + " 2>&1";
+        const int status = std::system(command.c_str());
+        EXPECT_EQ(WEXITSTATUS(status), 0) << command << "\n" << readText(out / (name + ".log"));
+        EXPECT_TRUE(fs::exists(dir / "report.md")) << name;
+        std::ifstream in(dir / "results.json");
+        EXPECT_FALSE(nlohmann::json::parse(in).at("rows").empty()) << name;
+        ++count;
+    }
+    EXPECT_GE(count, 8u);
+    fs::remove_all(out);
+}
+
 TEST(BenchCommand, RejectsBadOptions) {
-    for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b"}) {
+    for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b",
+                             "-t cone:variant=7", "-t cone:nope=1", "-t cone --visibility exterior",
+                             "-t cone --phi-max 45", "-t cone --param nope=1", "--edge wrap", "--param x"}) {
         const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args + " --out-dir /nonexistent-relief >/dev/null 2>&1";
         const int status = std::system(command.c_str());
         EXPECT_EQ(WEXITSTATUS(status), 1) << args;

@@ -84,6 +84,8 @@ BenchConfig fromStudy(const StudySpec& s) {
     c.sizes.assign(s.sizes.begin(), s.sizes.end());
     c.size = {s.width, s.height};
     c.depthRatio = s.depthRatio;
+    c.distance = s.distance;
+    c.peerTable = s.peerTable;
     c.paperNotes = std::string(s.paperNotes);
     for (const PaperRatioSpec& r : s.paperRatios)
         c.paperRatios.push_back({std::string(r.what), std::string(r.paper), std::string(r.numeratorTechnique),
@@ -122,7 +124,7 @@ std::vector<std::string> split(const std::string& text, char separator) {
     return parts;
 }
 
-// gen:NAME:WxH[:seed] → gen:NAME:64x64 (files stay: the repository's are small).
+// gen:NAME:WxH[:seed] → gen:NAME:64x64.
 std::string smokeMap(const std::string& map) {
     if (map.rfind("gen:", 0) != 0) return map;
     std::vector<std::string> parts = split(map, ':');
@@ -228,12 +230,15 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
     if (o.repeats < 0) return makeError(ErrorKind::BadArgument, "--repeats must be >= 1");
     if (o.repeats > 0) c.repeats = o.repeats;
     if (o.smoke) {
+        // Generated maps shrink to 64²; files (which cannot) stay only when there is no generated one.
         std::vector<std::string> maps;
         for (const std::string& m : c.maps)
-            if (std::find(maps.begin(), maps.end(), smokeMap(m)) == maps.end()) maps.push_back(smokeMap(m));
+            if (m.rfind("gen:", 0) == 0 && std::find(maps.begin(), maps.end(), smokeMap(m)) == maps.end())
+                maps.push_back(smokeMap(m));
+        if (maps.empty()) maps = c.maps;
         c.maps = maps;
         if (!c.sizes.empty()) c.sizes = {64};
-        if (c.elevations.size() > 1) c.elevations.resize(1);
+        if (c.elevations.size() > 1) c.elevations = {c.elevations.front()};
         c.size = {32, 32};
         c.repeats = 1;
         c.glFrames = 1;

@@ -39,6 +39,7 @@ struct BenchConfig {
     int repeats = 3;
     int glFrames = 10;  // timed GL frames per row
     bool embree = true;
+    bool peerTable = false;  // the reference against each CPU peer, per map and view
     std::string paperNotes;  // the paper's claims, shown beside ours
     std::vector<PaperRatio> paperRatios;
 };

@@ -218,12 +218,50 @@ Table scalingTable(const std::vector<BenchRow>& rows, const BenchConfig& config)
     return t;
 }
 
+// The reference against each CPU peer on the same rays, per map and view (DESIGN §8).
+Table peerTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+    const std::string ref = referenceName();
+    Table t{"Reference and peers", fmt::format("CPU, per map and view: pixels hit, cells per ray of {0}, and "
+                                               "agreement (same hit/miss and |Δt| ≤ 1e-3 texel) of {0} with "
+                                               "each peer, on the same rays in this run.", ref)};
+    std::vector<const PeerInfo*> cpuPeers;
+    for (const PeerInfo& p : peers())
+        if (p.backend == "cpu") cpuPeers.push_back(&p);
+    t.header = {"map", "elevation", "hits", "cells/ray"};
+    if (meta.timings) {
+        t.header.push_back(ref + " Mrays/s");
+        for (const PeerInfo* p : cpuPeers) t.header.push_back(std::string(p->name) + " Mrays/s");
+        for (const PeerInfo* p : cpuPeers) t.header.push_back(ref + "/" + std::string(p->name));
+    }
+    for (const PeerInfo* p : cpuPeers) t.header.push_back("agree " + std::string(p->name));
+    std::vector<const BenchRow*> all;
+    for (const BenchRow& r : rows) all.push_back(&r);
+    for (const BenchRow& r : rows) {
+        if (r.technique != ref || r.backend != "cpu") continue;
+        std::vector<const BenchRow*> peerRows;
+        for (const PeerInfo* p : cpuPeers) peerRows.push_back(findRow(all, r, std::string(p->name)));
+        std::vector<std::string> line = {r.map, fmt::format("{:.1f}°", r.elevation),
+                                         fmt::format("{:.1f}%", 100.0 * double(r.stats.hits) / double(std::max<size_t>(1, r.stats.pixels))),
+                                         fmt::format("{:.0f}", r.stats.steps.mean)};
+        if (meta.timings) {
+            line.push_back(fmt::format("{:.2f}", r.mraysPerSecond));
+            for (const BenchRow* p : peerRows) line.push_back(p ? fmt::format("{:.2f}", p->mraysPerSecond) : "-");
+            for (const BenchRow* p : peerRows)
+                line.push_back(p && p->mraysPerSecond > 0 ? fmt::format("{:.3f}", r.mraysPerSecond / p->mraysPerSecond) : "-");
+        }
+        for (const BenchRow* p : peerRows) line.push_back(p ? fmt::format("{:.4f}%", 100.0 * p->agreeRate) : "-");
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
 std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
     if (config.kind == StudyKind::Builds) return {buildsTable(rows, meta)};
     std::vector<Table> tables = {summaryTable(rows, config, meta)};
     if (!config.caps.empty()) tables.push_back(errorVsCapTable(rows, config));
     tables.push_back(stepsVsElevationTable(rows, config));
     if (config.kind == StudyKind::Scaling) tables.push_back(scalingTable(rows, config));
+    if (config.peerTable) tables.push_back(peerTable(rows, meta));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
     return tables;
 }
@@ -333,6 +371,7 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
                         {"backend", r.backend}, {"elevation", r.elevation}, {"cap", r.cap},
                         {"error_mean", r.stats.error.mean}, {"error_p95", r.stats.error.p95},
                         {"error_max", r.stats.error.max}, {"wrong_rate", r.stats.wrongRate()},
+                        {"agree_rate", r.agreeRate},
                         {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},
                         {"fetches_mean", r.stats.fetches.mean}, {"fetches_max", r.stats.fetches.max},
                         {"bytes_per_texel", r.bytesPerTexel}, {"images", r.images}};
@@ -354,7 +393,8 @@ std::string resultsJson(const std::vector<BenchRow>& rows, const nlohmann::json&
 std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
     static const char* const kColumns[] = {"technique", "contract", "map", "backend", "elevation", "cap",
         "error_mean", "error_p95", "error_max", "wrong_rate", "steps_mean", "steps_max", "fetches_mean",
-        "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel", "build_cpu_seconds"};
+        "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel", "build_cpu_seconds",
+        "agree_rate"};
     std::string csv;
     for (const char* c : kColumns) csv += std::string(c == kColumns[0] ? "" : ",") + c;
     csv += "\n";

@@ -106,12 +106,23 @@ constexpr StudySpec kCurvesStudies[] = {
      .paperNotes = "Geometric displacement on plane and sphere, Table 1 (sine map, 2 samples per pixel)."},
 };
 
+// exact against Embree on the same triangles and rays (docs/benchmarks-exact-embree.md).
+constexpr std::string_view kExactEmbreeMaps[] = {"gen:fbm:512x512:1", "gen:fbm:2048x2048:1",
+                                                 "data/earth-topology-2048x1024.png"};
+constexpr std::string_view kExactEmbreeRows[] = {"exact"};
+constexpr float kExactEmbreeElevations[] = {15.3f, 52.7f};
+constexpr StudySpec kExactStudies[] = {
+    {.name = "exact-embree", .description = "exact vs Embree rtcIntersect1/16, same rays (was bench_exact_embree)",
+     .maps = kExactEmbreeMaps, .techniques = kExactEmbreeRows, .elevations = kExactEmbreeElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
+};
+
 // clang-format off
 const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
-     .glsl = "exact/exact.glsl", .reference = true},
+     .glsl = "exact/exact.glsl", .studies = kExactStudies, .reference = true},
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,

@@ -88,6 +88,8 @@ struct StudySpec {
     std::span<const int> sizes;                    // map sizes N (N×N) for Builds and Scaling
     int width = 640, height = 512;                 // primary rays per view
     float depthRatio = 0.1f;
+    float distance = 1.0f;   // camera distance in box diagonals
+    bool peerTable = false;  // the report adds the reference-vs-peers table per view
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
 };
