@@ -28,7 +28,7 @@ struct BenchConfig {
     std::vector<std::string> techniques;  // rows: NAME or NAME:PARAM=V[:PARAM=V]
     std::vector<float> elevations;
     std::vector<int> caps;   // for rows with an iteration cap
-    std::vector<int> sizes;  // map sizes N for Builds and Scaling: each map gen:NAME becomes gen:NAME:NxN
+    std::vector<int> sizes;  // map sizes N for Builds and Scaling: a map with {N} in it, once per size
     std::vector<std::string> backends{"cpu"};
     ivec2 size{640, 512};
     float azimuth = 30.0f;

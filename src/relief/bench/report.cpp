@@ -191,65 +191,94 @@ Table buildsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     return t;
 }
 
-// Scaling studies: steps per ray against the map size, every hit checked by the reference.
-Table scalingTable(const std::vector<BenchRow>& rows, const BenchConfig& config) {
-    Table t{"Steps vs map size", fmt::format("CPU, largest cap: mean / p99 steps per ray, and wrong pixels against "
-                                             "{} (of all pixels), per map and elevation.", referenceName())};
-    t.header = {"technique", "map"};
-    for (float e : config.elevations) t.header.push_back(fmt::format("{:.1f}°", e));
-    std::vector<std::pair<std::string, std::string>> keys;
-    for (const BenchRow* r : atLargestCap(rows))
-        if (r->backend == "cpu" && !isPeer(r->technique) &&
-            std::find(keys.begin(), keys.end(), std::pair{r->technique, r->map}) == keys.end())
-            keys.emplace_back(r->technique, r->map);
+// Scaling studies, one table per elevation: steps per ray (over the rays that enter the box) of
+// every row against the map size, and the hits that disagree with the reference.
+std::vector<Table> scalingTables(const std::vector<BenchRow>& rows, const BenchConfig& config) {
     const std::vector<const BenchRow*> selected = atLargestCap(rows);
-    for (const auto& [technique, map] : keys) {
-        std::vector<std::string> line = {technique, map};
-        for (float e : config.elevations) {
-            const BenchRow* found = nullptr;
-            for (const BenchRow* r : selected)
-                if (r->technique == technique && r->map == map && r->elevation == e && r->backend == "cpu") found = r;
-            line.push_back(found ? fmt::format("{:.1f} / {:.0f}, {} wrong", found->stats.steps.mean,
-                                               found->stats.steps.p99, found->stats.wrong)
-                                 : "-");
-        }
-        t.rows.push_back(std::move(line));
+    std::vector<std::string> names, maps;
+    for (const BenchRow* r : selected) {
+        if (r->backend != "cpu" || isPeer(r->technique)) continue;
+        if (std::find(names.begin(), names.end(), r->technique) == names.end()) names.push_back(r->technique);
+        if (std::find(maps.begin(), maps.end(), r->map) == maps.end()) maps.push_back(r->map);
     }
-    return t;
+    std::vector<Table> tables;
+    for (float e : config.elevations) {
+        Table t{fmt::format("Steps per ray against map size, elevation {:.1f}°", e),
+                fmt::format("CPU: mean / p99 steps over the rays that enter the box; wrong hits: pixels where a row "
+                            "and {} differ (hit/miss, or |Δt| > 1e-3 texel), all rows together.", referenceName())};
+        t.header = {"map", "log2 p"};
+        t.header.insert(t.header.end(), names.begin(), names.end());
+        t.header.push_back("wrong hits");
+        for (const std::string& map : maps) {
+            std::vector<std::string> line = {map, "-"};
+            size_t wrong = 0;
+            for (const std::string& name : names) {
+                const BenchRow* found = nullptr;
+                for (const BenchRow* r : selected)
+                    if (r->technique == name && r->map == map && r->elevation == e && r->backend == "cpu") found = r;
+                if (found) {
+                    line[1] = fmt::format("{:.1f}", std::log2(double(found->mapSamples)));
+                    wrong += size_t(std::llround((1.0 - found->agreeRate) * double(found->stats.pixels)));
+                }
+                line.push_back(found ? fmt::format("{:.1f} / {:.0f}", found->boxSteps.mean, found->boxSteps.p99) : "-");
+            }
+            line.push_back(std::to_string(wrong));
+            t.rows.push_back(std::move(line));
+        }
+        tables.push_back(std::move(t));
+    }
+    return tables;
 }
 
-// The reference against each CPU peer on the same rays, per map and view (DESIGN §8).
-Table peerTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+// Every CPU row and peer per map and view, on the same rays in this run (DESIGN §8): the
+// reference's hits and cells per ray, Mrays/s, the first row over each peer, and each row's
+// agreement with the reference (same hit/miss and |Δt| ≤ 1e-3 texel).
+Table viewTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     const std::string ref = referenceName();
-    Table t{"Reference and peers", fmt::format("CPU, per map and view: pixels hit, cells per ray of {0}, and "
-                                               "agreement (same hit/miss and |Δt| ≤ 1e-3 texel) of {0} with "
-                                               "each peer, on the same rays in this run.", ref)};
-    std::vector<const PeerInfo*> cpuPeers;
+    Table t{"Per view", fmt::format("CPU, per map and view, at the largest cap: pixels hit and cells per ray of {0}, "
+                                    "speeds, and agreement with {0} (same hit/miss and |Δt| ≤ 1e-3 texel).", ref)};
+    const std::vector<const BenchRow*> selected = atLargestCap(rows);
+    std::vector<std::string> names, peerNames;
+    for (const BenchRow* r : selected)
+        if (r->backend == "cpu" && std::find(names.begin(), names.end(), r->technique) == names.end())
+            names.push_back(r->technique);
     for (const PeerInfo& p : peers())
-        if (p.backend == "cpu") cpuPeers.push_back(&p);
+        if (p.backend == "cpu" && std::find(names.begin(), names.end(), p.name) != names.end())
+            peerNames.emplace_back(p.name);
+    std::erase_if(names, [](const std::string& n) { return isPeer(n); });
+    std::vector<std::string> all = names;
+    all.insert(all.end(), peerNames.begin(), peerNames.end());
+    std::vector<std::string> compared;  // agreement columns: every row but the reference
+    for (const std::string& n : all)
+        if (n != ref) compared.push_back(n);
     t.header = {"map", "elevation", "hits", "cells/ray"};
     if (meta.timings) {
-        t.header.push_back(ref + " Mrays/s");
-        for (const PeerInfo* p : cpuPeers) t.header.push_back(std::string(p->name) + " Mrays/s");
-        for (const PeerInfo* p : cpuPeers) t.header.push_back(ref + "/" + std::string(p->name));
+        for (const std::string& n : all) t.header.push_back(n + " Mrays/s");
+        if (!names.empty())
+            for (const std::string& p : peerNames) t.header.push_back(names.front() + "/" + p);
     }
-    for (const PeerInfo* p : cpuPeers) t.header.push_back("agree " + std::string(p->name));
-    std::vector<const BenchRow*> all;
-    for (const BenchRow& r : rows) all.push_back(&r);
-    for (const BenchRow& r : rows) {
-        if (r.technique != ref || r.backend != "cpu") continue;
-        std::vector<const BenchRow*> peerRows;
-        for (const PeerInfo* p : cpuPeers) peerRows.push_back(findRow(all, r, std::string(p->name)));
-        std::vector<std::string> line = {r.map, fmt::format("{:.1f}°", r.elevation),
-                                         fmt::format("{:.1f}%", 100.0 * double(r.stats.hits) / double(std::max<size_t>(1, r.stats.pixels))),
-                                         fmt::format("{:.0f}", r.stats.steps.mean)};
+    for (const std::string& n : compared) t.header.push_back("agree " + n);
+    for (const BenchRow* r : selected) {
+        if (r->technique != ref || r->backend != "cpu") continue;
+        auto value = [&](const std::string& name, auto format) {
+            const BenchRow* row = findRow(selected, *r, name);
+            return row ? format(*row) : std::string("-");
+        };
+        std::vector<std::string> line = {r->map, fmt::format("{:.1f}°", r->elevation),
+                                         fmt::format("{:.1f}%", 100.0 * double(r->stats.hits) / double(std::max<size_t>(1, r->stats.pixels))),
+                                         fmt::format("{:.0f}", r->stats.steps.mean)};
         if (meta.timings) {
-            line.push_back(fmt::format("{:.2f}", r.mraysPerSecond));
-            for (const BenchRow* p : peerRows) line.push_back(p ? fmt::format("{:.2f}", p->mraysPerSecond) : "-");
-            for (const BenchRow* p : peerRows)
-                line.push_back(p && p->mraysPerSecond > 0 ? fmt::format("{:.3f}", r.mraysPerSecond / p->mraysPerSecond) : "-");
+            for (const std::string& n : all)
+                line.push_back(value(n, [](const BenchRow& x) { return fmt::format("{:.2f}", x.mraysPerSecond); }));
+            const BenchRow* first = names.empty() ? nullptr : findRow(selected, *r, names.front());
+            for (const std::string& p : peerNames)
+                line.push_back(value(p, [&](const BenchRow& x) {
+                    return first && x.mraysPerSecond > 0 ? fmt::format("{:.3f}", first->mraysPerSecond / x.mraysPerSecond)
+                                                         : std::string("-");
+                }));
         }
-        for (const BenchRow* p : peerRows) line.push_back(p ? fmt::format("{:.4f}%", 100.0 * p->agreeRate) : "-");
+        for (const std::string& n : compared)
+            line.push_back(value(n, [](const BenchRow& x) { return fmt::format("{:.4f}%", 100.0 * x.agreeRate); }));
         t.rows.push_back(std::move(line));
     }
     return t;
@@ -260,8 +289,9 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     std::vector<Table> tables = {summaryTable(rows, config, meta)};
     if (!config.caps.empty()) tables.push_back(errorVsCapTable(rows, config));
     tables.push_back(stepsVsElevationTable(rows, config));
-    if (config.kind == StudyKind::Scaling) tables.push_back(scalingTable(rows, config));
-    if (config.peerTable) tables.push_back(peerTable(rows, meta));
+    if (config.kind == StudyKind::Scaling)
+        for (Table& t : scalingTables(rows, config)) tables.push_back(std::move(t));
+    if (config.peerTable) tables.push_back(viewTable(rows, meta));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
     return tables;
 }
@@ -371,7 +401,8 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
                         {"backend", r.backend}, {"elevation", r.elevation}, {"cap", r.cap},
                         {"error_mean", r.stats.error.mean}, {"error_p95", r.stats.error.p95},
                         {"error_max", r.stats.error.max}, {"wrong_rate", r.stats.wrongRate()},
-                        {"agree_rate", r.agreeRate},
+                        {"agree_rate", r.agreeRate}, {"box_steps_mean", r.boxSteps.mean},
+                        {"box_steps_p99", r.boxSteps.p99}, {"map_samples", r.mapSamples},
                         {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},
                         {"fetches_mean", r.stats.fetches.mean}, {"fetches_max", r.stats.fetches.max},
                         {"bytes_per_texel", r.bytesPerTexel}, {"images", r.images}};
@@ -394,7 +425,7 @@ std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
     static const char* const kColumns[] = {"technique", "contract", "map", "backend", "elevation", "cap",
         "error_mean", "error_p95", "error_max", "wrong_rate", "steps_mean", "steps_max", "fetches_mean",
         "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel", "build_cpu_seconds",
-        "agree_rate"};
+        "agree_rate", "box_steps_mean", "box_steps_p99", "map_samples"};
     std::string csv;
     for (const char* c : kColumns) csv += std::string(c == kColumns[0] ? "" : ",") + c;
     csv += "\n";

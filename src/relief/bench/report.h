@@ -21,6 +21,8 @@ struct BenchRow {
     int cap = 0;  // 0 = the technique's default / none
     ErrorStats stats;
     double agreeRate = 0;  // pixels with the reference's hit/miss and |Δt| <= 1e-3 texel (the exact contract)
+    Summary boxSteps;      // steps over the rays that enter the relief's box
+    int64_t mapSamples = 0;
     double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, buildCpuSeconds = 0, bytesPerTexel = 0;
     std::string images;  // file prefix relative to the output folder, empty if none
 };

@@ -50,15 +50,19 @@ const ParamSpec* capParam(const TechniqueInfo& info) {
     return cap && cap->defaultValue != 0 ? cap : nullptr;
 }
 
-// The exact contract's agreement: same hit/miss and |Δt| <= 1e-3 texel.
-double agreeRate(const Image<Hit>& hits, const Image<Hit>& reference) {
+// Against the reference: the pixels in the exact contract's agreement (same hit/miss and
+// |Δt| <= 1e-3 texel), and steps over the rays that enter the relief's box.
+void agreement(BenchRow& row, const Image<Hit>& hits, const Image<Hit>& reference, const std::vector<char>& inBox) {
     size_t agree = 0;
+    std::vector<double> steps;
     for (size_t k = 0; k < hits.pixels.size(); ++k) {
         const Hit& a = hits.pixels[k];
         const Hit& b = reference.pixels[k];
         agree += a.hit == b.hit && (!a.hit || std::abs(a.t - b.t) <= 1e-3f);
+        if (inBox[k]) steps.push_back(double(a.steps));
     }
-    return hits.pixels.empty() ? 0.0 : double(agree) / double(hits.pixels.size());
+    row.agreeRate = hits.pixels.empty() ? 0.0 : double(agree) / double(hits.pixels.size());
+    row.boxSteps = relief::summarize(std::move(steps));
 }
 
 size_t mapBytes(const TechniqueMaps& maps) {
@@ -78,16 +82,21 @@ std::string resolveDataPath(const std::string& source) {
     return source;
 }
 
-// The heightfields of the run: gen:NAME becomes gen:NAME:NxN per map size of a Builds or Scaling
-// study.
+// The heightfields of the run: in a Builds or Scaling study, a map with {N} in it stands for one
+// map per size N (gen:fbm:{N}x{N}:1); the others are taken once.
 std::vector<std::string> runMaps(const BenchConfig& c) {
-    if (c.sizes.empty()) return c.maps;
     std::vector<std::string> maps;
+    for (const std::string& m : c.maps)
+        if (c.sizes.empty() || m.find("{N}") == std::string::npos) maps.push_back(m);
+    std::vector<std::string> sized;
     for (int n : c.sizes)
-        for (const std::string& m : c.maps)
-            maps.push_back(m.rfind("gen:", 0) == 0 && std::count(m.begin(), m.end(), ':') == 1
-                               ? fmt::format("{}:{}x{}", m, n, n) : m);
-    return maps;
+        for (std::string m : c.maps) {
+            if (m.find("{N}") == std::string::npos) continue;
+            for (size_t at; (at = m.find("{N}")) != std::string::npos;) m.replace(at, 3, std::to_string(n));
+            sized.push_back(m);
+        }
+    sized.insert(sized.end(), maps.begin(), maps.end());
+    return sized;
 }
 
 // A row's parameters from the global options: --param NAME=V where the row has NAME, and the
@@ -172,6 +181,7 @@ public:
             so.depthRatio = m_config.depthRatio;
             so.edge = m_config.edge;
             auto surface = orFail(makeSurface(so, orFail(loadHeightfield(so))));
+            m_mapSamples = surface->heightfield().sampleCount();
             std::shared_ptr<const MapFile> mapFile;
             if (!m_o.mapsPath.empty()) mapFile = orFail(loadCheckedMaps(m_o.mapsPath, *surface));
             std::vector<PreparedRow> rows = prepare(surface, mapFile.get());
@@ -230,6 +240,7 @@ private:
         r.buildSeconds = row.build.wall;
         r.buildCpuSeconds = row.build.cpu;
         r.bytesPerTexel = row.bytesPerTexel;
+        r.mapSamples = m_mapSamples;
         return r;
     }
 
@@ -252,6 +263,8 @@ private:
             OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
             const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
             const Image<Hit> referenceHits = tracePrimary(camera, *reference);
+            m_inBox.clear();
+            for (const Ray& ray : primaryRays(camera)) m_inBox.push_back(!surface->clip(ray).empty());
             if (embree) runEmbree(label, elevation, camera, *embree, referenceHits);
             for (PreparedRow& row : rows) {
                 const std::vector<int> caps = capsOf(*row.spec->info);
@@ -284,7 +297,7 @@ private:
         Image<Hit> hits;
         const double seconds = bestOf(m_config.repeats, [&] { hits = tracePrimary(camera, *tracer); });
         r.stats = compareHits(hits, reference);
-        r.agreeRate = agreeRate(hits, reference);
+        agreement(r, hits, reference, m_inBox);
         r.mraysPerSecond = double(hits.pixels.size()) / seconds / 1e6;
         r.msPerFrame = 1000.0 * seconds;
         if (images) {
@@ -309,7 +322,7 @@ private:
         hits.pixels = orFail(traceGlCamera(info, input, uniforms));
         BenchRow r = newRow(row, map, "gl", elevation, cap, input.params);
         r.stats = compareHits(hits, reference);
-        r.agreeRate = agreeRate(hits, reference);
+        agreement(r, hits, reference, m_inBox);
         r.msPerFrame = timing.msPerFrame;
         r.mraysPerSecond = double(hits.pixels.size()) / (timing.msPerFrame * 1e-3) / 1e6;
         m_glDevice = timing.device;
@@ -323,6 +336,7 @@ private:
         r.map = map;
         r.backend = std::string(peer.backend);
         r.elevation = elevation;
+        r.mapSamples = m_mapSamples;
         return r;
     }
 
@@ -344,7 +358,7 @@ private:
             const PeerResult result = embree.run(peer.kind, camera, m_config.repeats);
             BenchRow r = peerRow(peer, map, elevation);
             r.stats = compareHits(result.hits, reference);
-            r.agreeRate = agreeRate(result.hits, reference);
+            agreement(r, result.hits, reference, m_inBox);
             r.mraysPerSecond = double(result.hits.pixels.size()) / result.seconds / 1e6;
             r.msPerFrame = 1000.0 * result.seconds;
             r.buildSeconds = embree.buildSeconds();
@@ -414,6 +428,8 @@ private:
     std::vector<Overrides> m_overrides;
     std::vector<BenchRow> m_rows;
     std::string m_glDevice, m_loadBefore;
+    std::vector<char> m_inBox;  // per pixel of the current view: its ray enters the box
+    int64_t m_mapSamples = 0;
 };
 
 }  // namespace

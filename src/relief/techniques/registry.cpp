@@ -86,7 +86,20 @@ constexpr PaperRatioSpec kQuadtreePaperRatios[] = {
     {"parallax 2048² / 256²", "354 / 360 fps = 0.98× (Table 1)", "parallax", "fbm:2048x2048", "parallax", "fbm:256x256"},
     {"quadtree / relief mapping, 256²", "95 / 188 fps = 0.51× (Table 1)", "quadtree", "fbm:256x256", "linear", "fbm:256x256"},
 };
+// bench_quadtree's evidence: steps per ray against map size, and throughput beside Embree.
+constexpr std::string_view kQuadtreeScalingMaps[] = {"gen:fbm:{N}x{N}:1", "../shared/data/earth-srtm-10800x5400.png"};
+constexpr std::string_view kQuadtreeScalingRows[] = {"quadtree", "quadtree:ascend=0", "maxmip", "quadtree-oriented",
+                                                     "exact"};
+constexpr int kQuadtreeScalingSizes[] = {256, 512, 1024, 2048, 4096, 8192};
+constexpr std::string_view kQuadtreeSpeedMaps[] = {"gen:fbm:1024x1024:1", "gen:fbm:4096x4096:1"};
+constexpr float kQuadtreeSpeedElevations[] = {15.3f, 40.2f, 65.1f};
 constexpr StudySpec kQuadtreeStudies[] = {
+    {.name = "quadtree-scaling", .description = "steps per ray vs map size 256²-8192² and the earth SRTM map",
+     .kind = StudyKind::Scaling, .maps = kQuadtreeScalingMaps, .techniques = kQuadtreeScalingRows,
+     .sizes = kQuadtreeScalingSizes, .width = 320, .height = 256, .distance = 0.6f},
+    {.name = "quadtree-speed", .description = "quadtree, maxmip, oriented, exact beside Embree at 1024² and 4096²",
+     .maps = kQuadtreeSpeedMaps, .techniques = kQuadtreeScalingRows, .elevations = kQuadtreeSpeedElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
     {.name = "quadtree-paper", .description = "quadtree scaling 256²-2048²",
      .maps = kQuadtreePaperMaps, .techniques = kQuadtreePaperRows, .elevations = kQuadtreePaperElevations,
      .paperNotes = "Quadtree relief mapping: steps grow like log p for steep views and toward sqrt p for "

@@ -81,7 +81,7 @@ struct PaperRatioSpec {
 struct StudySpec {
     std::string_view name, description;
     StudyKind kind = StudyKind::Views;
-    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths
+    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths ({N}: each size)
     std::span<const std::string_view> techniques;  // NAME or NAME:PARAM=V[:PARAM=V]
     std::span<const float> elevations;             // empty = the standard elevations
     std::span<const int> caps;                     // iteration caps, for rows that have one
