@@ -86,6 +86,7 @@ BenchConfig fromStudy(const StudySpec& s) {
     c.depthRatio = s.depthRatio;
     c.distance = s.distance;
     c.peerTable = s.peerTable;
+    c.compare = std::string(s.compare);
     c.paperNotes = std::string(s.paperNotes);
     for (const PaperRatioSpec& r : s.paperRatios)
         c.paperRatios.push_back({std::string(r.what), std::string(r.paper), std::string(r.numeratorTechnique),

@@ -40,6 +40,7 @@ struct BenchConfig {
     int glFrames = 10;  // timed GL frames per row
     bool embree = true;
     bool peerTable = false;  // the reference against each CPU peer, per map and view
+    std::string compare;     // "A/B": two rows side by side by elevation and cap (cap 0 = default)
     std::string paperNotes;  // the paper's claims, shown beside ours
     std::vector<PaperRatio> paperRatios;
 };

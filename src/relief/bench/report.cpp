@@ -10,6 +10,7 @@
 #include <map>
 #include <algorithm>
 #include <optional>
+#include <tuple>
 #include <set>
 
 namespace relief::bench {
@@ -117,10 +118,12 @@ Table errorVsCapTable(const std::vector<BenchRow>& rows, const BenchConfig& conf
     const auto wrong = meanBy<int>(capped, [](const BenchRow& r) { return r.cap; },
                                    [](const BenchRow& r) { return 100 * r.stats.wrongRate(); });
     t.header = {"technique"};
-    for (int cap : config.caps) t.header.push_back(std::to_string(cap));
+    std::vector<int> caps = config.caps;
+    std::erase(caps, 0);  // the defaults are not a cap
+    for (int cap : caps) t.header.push_back(std::to_string(cap));
     for (const auto& [technique, byCap] : error) {
         std::vector<std::string> line = {technique};
-        for (int cap : config.caps) {
+        for (int cap : caps) {
             const auto e = byCap.find(cap);
             const auto w = wrong.at(technique).find(cap);
             line.push_back(e == byCap.end() ? "-"
@@ -284,6 +287,68 @@ Table viewTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     return t;
 }
 
+// Two rows A/B side by side (a paper's figures of one method against another): per elevation and
+// cap (0 = the defaults), means over the maps of the CPU rows.
+std::vector<Table> compareTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
+    const size_t slash = config.compare.find('/');
+    const std::string a = config.compare.substr(0, slash), b = config.compare.substr(slash + 1);
+    struct Sums {
+        double error = 0, wrong = 0, steps = 0, ms = 0;
+        int n = 0;
+    };
+    std::map<std::tuple<std::string, float, int>, Sums> sums;
+    for (const BenchRow& r : rows) {
+        if (r.backend != "cpu" || (r.technique != a && r.technique != b)) continue;
+        Sums& s = sums[{r.technique, r.elevation, r.cap}];
+        s.error += r.stats.error.mean;
+        s.wrong += 100 * r.stats.wrongRate();
+        s.steps += r.stats.steps.mean;
+        s.ms += r.msPerFrame;
+        ++s.n;
+    }
+    std::vector<int> caps = config.caps.empty() ? std::vector<int>{0} : config.caps;
+    auto table = [&](std::string title, std::string caption, auto cell) {
+        Table t{std::move(title), std::move(caption)};
+        t.header = {"elevation"};
+        for (int cap : caps) t.header.push_back(cap ? std::to_string(cap) : "default");
+        for (float e : config.elevations) {
+            std::vector<std::string> line = {fmt::format("{:.1f}°", e)};
+            for (int cap : caps) {
+                const auto x = sums.find({a, e, cap}), y = sums.find({b, e, cap});
+                line.push_back(x == sums.end() || y == sums.end() ? "-" : cell(x->second, y->second));
+            }
+            t.rows.push_back(std::move(line));
+        }
+        return t;
+    };
+    std::vector<Table> tables;
+    tables.push_back(table(fmt::format("Mean |Δt|, {} / {}", a, b),
+                           "Texels along the ray, by elevation and cap, mean over the maps.",
+                           [](const Sums& x, const Sums& y) {
+                               return fmt::format("{:.3g} / {:.3g}", x.error / x.n, y.error / y.n);
+                           }));
+    tables.push_back(table(fmt::format("Wrong-hit pixels (%), {} / {}", a, b),
+                           "Unconverged rays at a cap stop short.", [](const Sums& x, const Sums& y) {
+                               return fmt::format("{:.2g} / {:.2g}", x.wrong / x.n, y.wrong / y.n);
+                           }));
+    tables.push_back(table(fmt::format("Mean steps per pixel, {} / {}", a, b), "Until termination.",
+                           [](const Sums& x, const Sums& y) {
+                               return fmt::format("{:.1f} / {:.1f}", x.steps / x.n, y.steps / y.n);
+                           }));
+    if (meta.timings) {
+        tables.push_back(table(fmt::format("{1} minus {0} time per frame (ms)", a, b),
+                               fmt::format("Mean over the maps; positive = {} faster.", a),
+                               [](const Sums& x, const Sums& y) {
+                                   return fmt::format("{:+.2f}", y.ms / y.n - x.ms / x.n);
+                               }));
+        tables.push_back(table(fmt::format("Time ratio {} / {} per frame", a, b),
+                               fmt::format("< 1 = {} faster.", a), [](const Sums& x, const Sums& y) {
+                                   return fmt::format("{:.2f}", (x.ms / x.n) / (y.ms / y.n));
+                               }));
+    }
+    return tables;
+}
+
 std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
     if (config.kind == StudyKind::Builds) return {buildsTable(rows, meta)};
     std::vector<Table> tables = {summaryTable(rows, config, meta)};
@@ -292,6 +357,8 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     if (config.kind == StudyKind::Scaling)
         for (Table& t : scalingTables(rows, config)) tables.push_back(std::move(t));
     if (config.peerTable) tables.push_back(viewTable(rows, meta));
+    if (!config.compare.empty())
+        for (Table& t : compareTables(rows, config, meta)) tables.push_back(std::move(t));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
     return tables;
 }

@@ -47,7 +47,24 @@ constexpr std::string_view kQdmPaperMaps[] = {"gen:sine:1024x1024", "gen:peaks6:
                                               "data/finland-topography-400-16bit.png"};
 constexpr std::string_view kQdmPaperRows[] = {"qdm", "cone", "exact"};
 constexpr int kQdmPaperCaps[] = {4, 6, 8, 12, 24, 48, 200};
+// bench_qdm's experiments (Kiglics et al. 2023 §5): qdm against safe cones by elevation and cap
+// over seven maps (the two SRTM crops of the old bench are not sources the registry can name),
+// and qdm build times.
+constexpr std::string_view kQdmStudyMaps[] = {"gen:sine:1024x1024:1", "gen:peaks6:1024x1024:1", "gen:fbm:1024x1024:1",
+                                              "gen:terraces:1024x1024:1", "gen:walls:1024x1024:1",
+                                              "data/colorado-elevation-400.png",
+                                              "data/finland-topography-400-16bit.png"};
+constexpr std::string_view kQdmStudyRows[] = {"qdm", "cone"};
+constexpr int kCapsAndDefault[] = {0, 4, 6, 8, 12, 24, 48, 200};  // 0 = the row's default cap
+constexpr std::string_view kQdmBuildMaps[] = {"gen:fbm:{N}x{N}:1", "gen:peaks6:{N}x{N}:1"};
+constexpr std::string_view kQdmBuildRows[] = {"qdm"};
+constexpr int kBuildSizes[] = {256, 512, 1024, 2048, 4096};
 constexpr StudySpec kQdmStudies[] = {
+    {.name = "qdm-cone", .description = "qdm vs safe cones by elevation and cap, Fig. 9-11 / Table 1 (was bench_qdm)",
+     .maps = kQdmStudyMaps, .techniques = kQdmStudyRows, .caps = kCapsAndDefault, .width = 320,
+     .height = 256, .distance = 1.2f, .compare = "qdm/cone"},
+    {.name = "qdm-builds", .description = "qdm build time, wall and CPU, 256²-4096² (was bench_qdm --builds)",
+     .kind = StudyKind::Builds, .maps = kQdmBuildMaps, .techniques = kQdmBuildRows, .sizes = kBuildSizes},
     {.name = "qdm-paper", .description = "quadratic displacement maps vs cone stepping",
      .maps = kQdmPaperMaps, .techniques = kQdmPaperRows, .caps = kQdmPaperCaps,
      .paperNotes = "Quadratic displacement maps (Fig. 9-11, Table 1): QDM reaches a given error with fewer "
@@ -130,6 +147,22 @@ constexpr StudySpec kExactStudies[] = {
      .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
 };
 
+// bench_cones: cone and relaxed-cone builders (safe and faithful), build time per size, and error
+// vs cap / steps vs elevation per builder (the old bench's SRTM window is not a registry source).
+constexpr std::string_view kConeBuildMaps[] = {"gen:fbm:{N}x{N}:1"};
+constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=1"};
+constexpr int kConeBuildSizes[] = {256, 512, 1024, 2048};
+constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1"};
+constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=0",
+                                                 "relaxed-cone:variant=1"};
+constexpr StudySpec kConeStudies[] = {
+    {.name = "cones-builds", .description = "cone map builds (safe, faithful, relaxed faithful), wall and CPU",
+     .kind = StudyKind::Builds, .maps = kConeBuildMaps, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
+    {.name = "cones-quality", .description = "cone builders: error vs cap, steps vs elevation, throughput",
+     .maps = kConeQualityMaps, .techniques = kConeQualityRows, .caps = kCapsAndDefault, .width = 256,
+     .height = 256, .distance = 1.2f},
+};
+
 // clang-format off
 const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
@@ -161,7 +194,8 @@ const TechniqueInfo kTechniques[] = {
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
-     .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl", .variants = kConeVariants},
+     .buildMaps = buildConeMaps, .glsl = "cone/cone.glsl", .variants = kConeVariants,
+     .studies = kConeStudies},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,

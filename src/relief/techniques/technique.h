@@ -90,6 +90,7 @@ struct StudySpec {
     float depthRatio = 0.1f;
     float distance = 1.0f;   // camera distance in box diagonals
     bool peerTable = false;  // the report adds the reference-vs-peers table per view
+    std::string_view compare;  // "A/B" (row labels): the report adds A-vs-B tables by view and cap
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
 };
