@@ -81,7 +81,34 @@ constexpr PaperRatioSpec kSafetyPaperRatios[] = {
     {"CC / SD, 1024²", "313 / 85 Hz = 3.68× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-sd", "fbm:1024x1024"},
     {"CC 1024² / CC 256²", "313 / 548 Hz = 0.57× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-cc", "fbm:256x256"},
 };
+// bench_safety's sections (docs/safety.md): precomputation per size, Fig. 29 / Table 1 on this CPU
+// beside Embree, and exterior-ray maps (§6.2): their builds and their gain per elevation.
+constexpr std::string_view kFbmBySize[] = {"gen:fbm:{N}x{N}:1"};
+constexpr std::string_view kSafetyBuildRows[] = {"safety-sd", "safety-cc", "safety-sd:phi-max=-45"};
+constexpr std::string_view kSafetyCompareMaps[] = {"gen:fbm:256x256:1", "gen:fbm:512x512:1", "gen:fbm:1024x1024:1"};
+constexpr std::string_view kSafetyCompareRows[] = {
+    "exact", "linear:max-steps=16", "linear:max-steps=32", "linear:max-steps=64",
+    "relaxed-cone:variant=1:max-steps=8", "relaxed-cone:variant=1:max-steps=15", "relaxed-cone:variant=1:max-steps=35",
+    "safety-sd", "safety-sd:isotropic=1", "safety-sd:phi-max=-45", "safety-sd:positive-distance=1",
+    "safety-sd:view-dependent=1", "safety-cc", "safety-cc:isotropic=1", "safety-cc:phi-max=-45",
+    "safety-cc:positive-distance=1", "safety-cc:view-dependent=1"};
+constexpr float kSafetyCompareElevations[] = {52.7f};
+constexpr std::string_view kSafetyExteriorMaps[] = {"gen:fbm:512x512:1"};
+constexpr std::string_view kSafetyExteriorRows[] = {"safety-sd", "safety-sd:exterior=1", "safety-cc",
+                                                    "safety-cc:exterior=1", "safety-cc:exterior=1:exterior-slope=1"};
+constexpr int kSafetyExteriorSizes[] = {256, 512, 1024};
 constexpr StudySpec kSafetyStudies[] = {
+    {.name = "safety-builds", .description = "safety-sd / safety-cc precomputation 256²-4096² (was bench_safety)",
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kSafetyBuildRows, .sizes = kBuildSizes},
+    {.name = "safety-compare", .description = "Fig. 29 / Table 1 on this CPU, beside Embree (was bench_safety)",
+     .maps = kSafetyCompareMaps, .techniques = kSafetyCompareRows, .elevations = kSafetyCompareElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
+    {.name = "safety-exterior-builds", .description = "exterior-ray maps (§6.2): build time per size",
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kSafetyExteriorRows,
+     .sizes = kSafetyExteriorSizes},
+    {.name = "safety-exterior", .description = "exterior-ray maps (§6.2): time and steps per elevation",
+     .maps = kSafetyExteriorMaps, .techniques = kSafetyExteriorRows, .width = 1280, .height = 1024,
+     .distance = 0.6f},
     {.name = "safety-paper", .description = "safety shapes Fig. 29 / Table 1",
      .maps = kSafetyPaperMaps, .techniques = kSafetyPaperRows, .elevations = kSafetyPaperElevations,
      .caps = kSafetyPaperCaps, .width = 1280, .height = 1024,
@@ -149,7 +176,6 @@ constexpr StudySpec kExactStudies[] = {
 
 // bench_cones: cone and relaxed-cone builders (safe and faithful), build time per size, and error
 // vs cap / steps vs elevation per builder (the old bench's SRTM window is not a registry source).
-constexpr std::string_view kConeBuildMaps[] = {"gen:fbm:{N}x{N}:1"};
 constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=1"};
 constexpr int kConeBuildSizes[] = {256, 512, 1024, 2048};
 constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1"};
@@ -157,7 +183,7 @@ constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant
                                                  "relaxed-cone:variant=1"};
 constexpr StudySpec kConeStudies[] = {
     {.name = "cones-builds", .description = "cone map builds (safe, faithful, relaxed faithful), wall and CPU",
-     .kind = StudyKind::Builds, .maps = kConeBuildMaps, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
     {.name = "cones-quality", .description = "cone builders: error vs cap, steps vs elevation, throughput",
      .maps = kConeQualityMaps, .techniques = kConeQualityRows, .caps = kCapsAndDefault, .width = 256,
      .height = 256, .distance = 1.2f},
