@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -120,6 +121,73 @@ TEST(BenchCommand, EveryPresetSmokes) {
     }
     EXPECT_GE(count, 8u);
     fs::remove_all(out);
+}
+
+// Runs `relief bench ARGS` (small, deterministic, no images) into `out`; returns the exit code.
+int runBench(const std::string& args, const fs::path& out) {
+    const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args +
+                                " --deterministic --no-images --threads 2 --out-dir " + out.string() + " > " +
+                                (out.string() + ".log") + " 2>&1";
+    return WEXITSTATUS(std::system(command.c_str()));
+}
+
+nlohmann::json resultRows(const fs::path& out) {
+    std::ifstream in(out / "results.json");
+    return nlohmann::json::parse(in).at("rows");
+}
+
+// -t NAME:P=V rows are rows of their own, labelled with the variant, with that variant's contract.
+TEST(BenchCommand, VariantRowsKeepTheirContracts) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_variants_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("-t cone,cone:variant=1,relaxed-cone:variant=1 --heightfields gen:fbm:32x32 "
+                       "--elevations 40.2 --size 32x32 --caps 8,16",
+                       out), 0);
+    std::map<std::string, std::set<std::string>> contracts;
+    std::map<std::string, std::set<int>> caps;
+    for (const auto& row : resultRows(out)) {
+        contracts[row.at("technique")].insert(row.at("contract").get<std::string>());
+        caps[row.at("technique")].insert(row.at("cap").get<int>());
+    }
+    EXPECT_EQ(contracts["cone"], std::set<std::string>{"conservative"});
+    EXPECT_EQ(contracts["cone:variant=1"], std::set<std::string>{"approximate"});
+    EXPECT_EQ(contracts["relaxed-cone:variant=1"], std::set<std::string>{"approximate"});
+    EXPECT_EQ(caps["cone:variant=1"], (std::set<int>{8, 16}));
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+}
+
+// --maps: baked maps give the rows the maps built in the run give; another heightfield is refused.
+TEST(BenchCommand, BakedMapsMatchBuiltOnes) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_maps_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    const std::string maps = (out / "maps.exr").string();
+    const std::string bake = std::string(RELIEF_CLI_PATH) + " bake gen:fbm:32x32 -t cone,safety-sd -o " + maps +
+                             " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(bake.c_str()), 0) << bake;
+    const std::string common = "-t cone,safety-sd,exact --heightfields gen:fbm:32x32 --elevations 40.2 --size 32x32";
+    ASSERT_EQ(runBench(common, out / "built"), 0);
+    ASSERT_EQ(runBench(common + " --maps " + maps, out / "baked"), 0);
+    auto withoutBuild = [](nlohmann::json rows) {
+        for (auto& row : rows) row.erase("bytes_per_texel");
+        return rows;
+    };
+    EXPECT_EQ(withoutBuild(resultRows(out / "built")), withoutBuild(resultRows(out / "baked")));
+    EXPECT_EQ(runBench("-t cone --heightfields gen:fbm:48x48 --size 32x32 --maps " + maps, out / "other"), 3);
+    fs::remove_all(out);
+}
+
+// A Builds study writes one row per technique and map size with its map bytes.
+TEST(BenchCommand, BuildsStudyRecordsMaps) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_builds_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("--preset cones-builds --map-sizes 32,64", out), 0);
+    const auto rows = resultRows(out);
+    ASSERT_EQ(rows.size(), 6u);  // three builders × two sizes
+    for (const auto& row : rows) EXPECT_GT(row.at("bytes_per_texel").get<double>(), 0.0) << row.at("technique");
+    std::ifstream md(out / "report.md");
+    const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("## Map builds"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
 }
 
 TEST(BenchCommand, RejectsBadOptions) {
