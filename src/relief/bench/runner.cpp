@@ -13,6 +13,8 @@
 #include <relief/render/surface_source.h>
 #include <relief/techniques/registry.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <map>

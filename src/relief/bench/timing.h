@@ -1,6 +1,7 @@
 #pragma once
 // How the bench times and describes a run: best-of-N wall time, process CPU time, the load
 // average, the CPU model and the date, and the 4×4 packet order of Embree's rtcIntersect16.
+#include <algorithm>
 #include <chrono>
 #include <cstddef>
 #include <string>
