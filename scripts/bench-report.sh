@@ -16,7 +16,7 @@ build/relief bench --preset default --no-images --out-dir docs/bench --markdown 
     echo
     echo "## Other measurements"
     echo
-    echo "- [exact vs Embree in detail](benchmarks-exact-embree.md) (bench_exact_embree, quiet and shared machines)"
+    echo "- [exact vs Embree in detail](benchmarks-exact-embree.md) (`relief bench --preset exact-embree`, quiet and shared machines)"
     echo "- [GL backend on an NVIDIA H100](benchmarks-gpu.md) (\`relief bench --preset gpu\`)"
     echo "- Per-technique studies: [quadtree](quadtree.md), [cones](cones.md), [qdm](qdm.md), [safety shapes](safety.md), [curves](curves.md)"
 } >> docs/benchmarks.md

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -96,8 +97,103 @@ TEST(BenchCommand, HtmlReportRendersInHeadlessChromium) {
     fs::remove_all(out);
 }
 
+// Every preset (bench-wide and the rows' studies) runs end to end in seconds with --smoke, and
+// --judge holds: exact rows and the CPU peers agree with the reference (exit 4 otherwise).
+TEST(BenchCommand, EveryPresetSmokes) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_smoke_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    const std::string list = std::string(RELIEF_CLI_PATH) + " bench --list-presets > " + (out / "presets.txt").string();
+    ASSERT_EQ(std::system(list.c_str()), 0) << list;
+    std::istringstream presets(readText(out / "presets.txt"));
+    size_t count = 0;
+    for (std::string line; std::getline(presets, line);) {
+        const std::string name = line.substr(0, line.find(' '));
+        const fs::path dir = out / name;
+        const std::string command = std::string(RELIEF_CLI_PATH) + " bench --preset " + name +
+                                    " --smoke --judge --deterministic --no-images --threads 2 --out-dir " +
+                                    dir.string() + " > " + (out / (name + ".log")).string() + " 2>&1";
+        const int status = std::system(command.c_str());
+        EXPECT_EQ(WEXITSTATUS(status), 0) << command << "\n" << readText(out / (name + ".log"));
+        EXPECT_TRUE(fs::exists(dir / "report.md")) << name;
+        std::ifstream in(dir / "results.json");
+        EXPECT_FALSE(nlohmann::json::parse(in).at("rows").empty()) << name;
+        ++count;
+    }
+    EXPECT_GE(count, 8u);
+    fs::remove_all(out);
+}
+
+// Runs `relief bench ARGS` (small, deterministic, no images) into `out`; returns the exit code.
+int runBench(const std::string& args, const fs::path& out) {
+    const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args +
+                                " --deterministic --no-images --threads 2 --out-dir " + out.string() + " > " +
+                                (out.string() + ".log") + " 2>&1";
+    return WEXITSTATUS(std::system(command.c_str()));
+}
+
+nlohmann::json resultRows(const fs::path& out) {
+    std::ifstream in(out / "results.json");
+    return nlohmann::json::parse(in).at("rows");
+}
+
+// -t NAME:P=V rows are rows of their own, labelled with the variant, with that variant's contract.
+TEST(BenchCommand, VariantRowsKeepTheirContracts) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_variants_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("-t cone,cone:variant=1,relaxed-cone:variant=1 --heightfields gen:fbm:32x32 "
+                       "--elevations 40.2 --size 32x32 --caps 8,16",
+                       out), 0);
+    std::map<std::string, std::set<std::string>> contracts;
+    std::map<std::string, std::set<int>> caps;
+    for (const auto& row : resultRows(out)) {
+        contracts[row.at("technique")].insert(row.at("contract").get<std::string>());
+        caps[row.at("technique")].insert(row.at("cap").get<int>());
+    }
+    EXPECT_EQ(contracts["cone"], std::set<std::string>{"conservative"});
+    EXPECT_EQ(contracts["cone:variant=1"], std::set<std::string>{"approximate"});
+    EXPECT_EQ(contracts["relaxed-cone:variant=1"], std::set<std::string>{"approximate"});
+    EXPECT_EQ(caps["cone:variant=1"], (std::set<int>{8, 16}));
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+}
+
+// --maps: baked maps give the rows the maps built in the run give; another heightfield is refused.
+TEST(BenchCommand, BakedMapsMatchBuiltOnes) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_maps_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    const std::string maps = (out / "maps.exr").string();
+    const std::string bake = std::string(RELIEF_CLI_PATH) + " bake gen:fbm:32x32 -t cone,safety-sd -o " + maps +
+                             " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(bake.c_str()), 0) << bake;
+    const std::string common = "-t cone,safety-sd,exact --heightfields gen:fbm:32x32 --elevations 40.2 --size 32x32";
+    ASSERT_EQ(runBench(common, out / "built"), 0);
+    ASSERT_EQ(runBench(common + " --maps " + maps, out / "baked"), 0);
+    auto withoutBuild = [](nlohmann::json rows) {
+        for (auto& row : rows) row.erase("bytes_per_texel");
+        return rows;
+    };
+    EXPECT_EQ(withoutBuild(resultRows(out / "built")), withoutBuild(resultRows(out / "baked")));
+    EXPECT_EQ(runBench("-t cone --heightfields gen:fbm:48x48 --size 32x32 --maps " + maps, out / "other"), 3);
+    fs::remove_all(out);
+}
+
+// A Builds study writes one row per technique and map size with its map bytes.
+TEST(BenchCommand, BuildsStudyRecordsMaps) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_builds_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("--preset cones-builds --map-sizes 32,64", out), 0);
+    const auto rows = resultRows(out);
+    ASSERT_EQ(rows.size(), 6u);  // three builders × two sizes
+    for (const auto& row : rows) EXPECT_GT(row.at("bytes_per_texel").get<double>(), 0.0) << row.at("technique");
+    std::ifstream md(out / "report.md");
+    const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("## Map builds"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+}
+
 TEST(BenchCommand, RejectsBadOptions) {
-    for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b"}) {
+    for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b",
+                             "-t cone:variant=7", "-t cone:nope=1", "-t cone --visibility exterior",
+                             "-t cone --phi-max 45", "-t cone --param nope=1", "--edge wrap", "--param x"}) {
         const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args + " --out-dir /nonexistent-relief >/dev/null 2>&1";
         const int status = std::system(command.c_str());
         EXPECT_EQ(WEXITSTATUS(status), 1) << args;

@@ -69,45 +69,6 @@ void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, flo
     app.add_option("--light-azimuth", lightAzimuth, "light azimuth (degrees)")->capture_default_str();
 }
 
-Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
-    LoadOptions load;
-    load.invert = o.invert;
-    load.maxSamples = o.maxSamples;
-    if (!o.heightRange.empty()) {
-        double lo = 0, hi = 0;
-        if (std::sscanf(o.heightRange.c_str(), "%lf:%lf", &lo, &hi) != 2 || !(lo < hi) ||
-            !std::isfinite(lo) || !std::isfinite(hi))
-            return makeError(ErrorKind::BadArgument, "--height-range '{}': expected LO:HI with LO < HI",
-                             o.heightRange);
-        load.rangeLo = lo;
-        load.rangeHi = hi;
-    }
-    if (!o.raw.empty()) {
-        auto layout = parseRawLayout(o.raw);
-        if (!layout) return layout.error();
-        load.raw = *layout;
-    }
-    const std::pair<const char*, ChannelSelect> channels[] = {
-        {"luminance", ChannelSelect::Luminance}, {"r", ChannelSelect::Red},
-        {"g", ChannelSelect::Green}, {"b", ChannelSelect::Blue}, {"a", ChannelSelect::Alpha}};
-    for (auto& [name, value] : channels)
-        if (o.channel == name) load.channel = value;
-    auto hf = relief::loadHeightfield(o.source, load);
-    if (!hf) return hf.error();
-    return std::make_shared<const Heightfield>(std::move(*hf));
-}
-
-Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& o,
-                                                   std::shared_ptr<const Heightfield> hf) {
-    const float depth = o.depth ? *o.depth : o.depthRatio * float(std::max(hf->width, hf->height));
-    if (!std::isfinite(depth) || depth < 0.0f || depth > 1e6f)
-        return makeError(ErrorKind::BadArgument, "depth {} is out of range (0 to 1e6 texels)", depth);
-    if (!std::isfinite(o.depthRatio) || o.depthRatio < 0.0f)
-        return makeError(ErrorKind::BadArgument, "--depth-ratio {} must be >= 0", o.depthRatio);
-    const EdgeMode edge = o.edge == "repeat" ? EdgeMode::Repeat : EdgeMode::Clamp;
-    return std::make_shared<const Surface>(std::move(hf), depth, edge);
-}
-
 namespace {
 
 Result<Overrides> namedParams(const TechniqueOptions& o) {
@@ -188,21 +149,6 @@ Result<Overrides> parameterOverrides(const TechniqueInfo& info, const TechniqueO
     return std::move(result->front());
 }
 
-namespace {
-// Loaded once per process: render -t all asks for the same file once per technique.
-Result<std::shared_ptr<const MapFile>> loadMaps(const std::string& path, const Surface& surface) {
-    static std::map<std::string, std::shared_ptr<const MapFile>> cache;
-    auto it = cache.find(path);
-    if (it == cache.end()) {
-        auto file = readMapFile(path);
-        if (!file) return file.error();
-        it = cache.emplace(path, std::make_shared<const MapFile>(std::move(*file))).first;
-    }
-    if (Status s = checkMapSource(path, it->second->source, mapSourceOf(surface)); !s)
-        return s.error();
-    return it->second;
-}
-}  // namespace
 
 Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
                                            std::shared_ptr<const Surface> surface) {
@@ -219,9 +165,9 @@ Result<std::unique_ptr<Tracer>> makeTracer(
     const std::string& mapsPath, Backend backend, std::shared_ptr<const Surface> surface) {
     std::shared_ptr<const MapFile> maps;
     if (!mapsPath.empty() && info.buildMaps) {
-        auto loaded = loadMaps(mapsPath, *surface);
+        auto loaded = loadCheckedMaps(mapsPath, *surface);
         if (!loaded) return loaded.error();
-        maps = *loaded;  // the cache in loadMaps outlives every tracer
+        maps = *loaded;  // the cache in loadCheckedMaps outlives every tracer
     }
     auto input = techniqueInput(info, std::move(surface), overrides, maps.get(), mapsPath);
     if (!input) return input.error();

@@ -5,6 +5,7 @@
 #include <relief/gl/gl_tracer.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
+#include <relief/render/surface_source.h>
 #include <relief/surface/surface.h>
 #include <relief/techniques/technique.h>
 
@@ -16,17 +17,6 @@
 
 namespace relief::cli {
 
-struct SurfaceOptions {
-    std::string source;
-    std::optional<float> depth;
-    float depthRatio = 0.1f;
-    std::string edge = "clamp";
-    bool invert = false;
-    std::string heightRange;  // "LO:HI"
-    std::string raw;          // "WxH:u8|u16|f32"
-    std::string channel = "luminance";
-    int64_t maxSamples = kDefaultMaxSamples;
-};
 
 struct TechniqueOptions {
     std::string name = "exact";
@@ -50,9 +40,8 @@ struct CameraLimits {
 void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
                       const CameraLimits& limits = {});
 
-Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& options);
-Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& options,
-                                                   std::shared_ptr<const Heightfield> hf);
+// SurfaceOptions, loadHeightfield(options) and makeSurface(options, hf) come from
+// render/surface_source.h, shared with the bench.
 using Overrides = std::vector<std::pair<std::string, double>>;
 Backend backendOf(const TechniqueOptions& options);
 // The overrides of each technique from the role options (--max-steps, --phi-max, --visibility:

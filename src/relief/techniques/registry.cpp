@@ -79,6 +79,154 @@ constexpr PathCase kSafetyCcPathCases[] = {
     {"exterior=1,exterior-slope=1", true},
 };
 
+// The rows' studies: `relief bench --preset NAME` (src/relief/bench/presets.cpp reads them).
+constexpr std::string_view kQdmPaperMaps[] = {"gen:sine:1024x1024", "gen:peaks6:1024x1024", "gen:fbm:1024x1024",
+                                              "gen:terraces:1024x1024", "data/colorado-elevation-400.png",
+                                              "data/finland-topography-400-16bit.png"};
+constexpr std::string_view kQdmPaperRows[] = {"qdm", "cone", "exact"};
+constexpr int kQdmPaperCaps[] = {4, 6, 8, 12, 24, 48, 200};
+// bench_qdm's experiments (Kiglics et al. 2023 §5): qdm against safe cones by elevation and cap
+// over seven maps (the two SRTM crops of the old bench are not sources the registry can name),
+// and qdm build times.
+constexpr std::string_view kQdmStudyMaps[] = {"gen:sine:1024x1024:1", "gen:peaks6:1024x1024:1", "gen:fbm:1024x1024:1",
+                                              "gen:terraces:1024x1024:1", "gen:walls:1024x1024:1",
+                                              "data/colorado-elevation-400.png",
+                                              "data/finland-topography-400-16bit.png"};
+constexpr std::string_view kQdmStudyRows[] = {"qdm", "cone"};
+constexpr int kCapsAndDefault[] = {0, 4, 6, 8, 12, 24, 48, 200};  // 0 = the row's default cap
+constexpr std::string_view kQdmBuildMaps[] = {"gen:fbm:{N}x{N}:1", "gen:peaks6:{N}x{N}:1"};
+constexpr std::string_view kQdmBuildRows[] = {"qdm"};
+constexpr int kBuildSizes[] = {256, 512, 1024, 2048, 4096};
+constexpr StudySpec kQdmStudies[] = {
+    {.name = "qdm-cone", .description = "qdm vs safe cones by elevation and cap, Fig. 9-11 / Table 1 (was bench_qdm)",
+     .maps = kQdmStudyMaps, .techniques = kQdmStudyRows, .caps = kCapsAndDefault, .width = 320,
+     .height = 256, .distance = 1.2f, .compare = "qdm/cone"},
+    {.name = "qdm-builds", .description = "qdm build time, wall and CPU, 256²-4096² (was bench_qdm --builds)",
+     .kind = StudyKind::Builds, .maps = kQdmBuildMaps, .techniques = kQdmBuildRows, .sizes = kBuildSizes},
+    {.name = "qdm-paper", .description = "quadratic displacement maps vs cone stepping",
+     .maps = kQdmPaperMaps, .techniques = kQdmPaperRows, .caps = kQdmPaperCaps,
+     .paperNotes = "Quadratic displacement maps (Fig. 9-11, Table 1): QDM reaches a given error with fewer "
+                   "iterations than cone step mapping; the time difference per frame grows with the cap."},
+};
+
+constexpr std::string_view kSafetyPaperMaps[] = {"gen:fbm:256x256", "gen:fbm:512x512", "gen:fbm:1024x1024"};
+constexpr std::string_view kSafetyPaperRows[] = {"exact", "linear", "relaxed-cone", "safety-sd", "safety-cc"};
+constexpr float kSafetyPaperElevations[] = {15.3f, 40.2f, 65.1f};
+constexpr int kSafetyPaperCaps[] = {16, 32, 64};
+constexpr PaperRatioSpec kSafetyPaperRatios[] = {
+    {"CC / SD, 256²", "548 / 304 Hz = 1.80× (Table 1)", "safety-cc", "fbm:256x256", "safety-sd", "fbm:256x256"},
+    {"CC / SD, 512²", "444 / 190 Hz = 2.34× (Table 1)", "safety-cc", "fbm:512x512", "safety-sd", "fbm:512x512"},
+    {"CC / SD, 1024²", "313 / 85 Hz = 3.68× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-sd", "fbm:1024x1024"},
+    {"CC 1024² / CC 256²", "313 / 548 Hz = 0.57× (Table 1)", "safety-cc", "fbm:1024x1024", "safety-cc", "fbm:256x256"},
+};
+// bench_safety's sections (docs/safety.md): precomputation per size, Fig. 29 / Table 1 on this CPU
+// beside Embree, and exterior-ray maps (§6.2): their builds and their gain per elevation.
+constexpr std::string_view kFbmBySize[] = {"gen:fbm:{N}x{N}:1"};
+constexpr std::string_view kSafetyBuildRows[] = {"safety-sd", "safety-cc", "safety-sd:phi-max=-45"};
+constexpr std::string_view kSafetyCompareMaps[] = {"gen:fbm:256x256:1", "gen:fbm:512x512:1", "gen:fbm:1024x1024:1"};
+constexpr std::string_view kSafetyCompareRows[] = {
+    "exact", "linear:max-steps=16", "linear:max-steps=32", "linear:max-steps=64",
+    "relaxed-cone:variant=1:max-steps=8", "relaxed-cone:variant=1:max-steps=15", "relaxed-cone:variant=1:max-steps=35",
+    "safety-sd", "safety-sd:isotropic=1", "safety-sd:phi-max=-45", "safety-sd:positive-distance=1",
+    "safety-sd:view-dependent=1", "safety-cc", "safety-cc:isotropic=1", "safety-cc:phi-max=-45",
+    "safety-cc:positive-distance=1", "safety-cc:view-dependent=1"};
+constexpr float kSafetyCompareElevations[] = {52.7f};
+constexpr std::string_view kSafetyExteriorMaps[] = {"gen:fbm:512x512:1"};
+constexpr std::string_view kSafetyExteriorRows[] = {"safety-sd", "safety-sd:exterior=1", "safety-cc",
+                                                    "safety-cc:exterior=1", "safety-cc:exterior=1:exterior-slope=1"};
+constexpr int kSafetyExteriorSizes[] = {256, 512, 1024};
+constexpr StudySpec kSafetyStudies[] = {
+    {.name = "safety-builds", .description = "safety-sd / safety-cc precomputation 256²-4096² (was bench_safety)",
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kSafetyBuildRows, .sizes = kBuildSizes},
+    {.name = "safety-compare", .description = "Fig. 29 / Table 1 on this CPU, beside Embree (was bench_safety)",
+     .maps = kSafetyCompareMaps, .techniques = kSafetyCompareRows, .elevations = kSafetyCompareElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
+    {.name = "safety-exterior-builds", .description = "exterior-ray maps (§6.2): build time per size",
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kSafetyExteriorRows,
+     .sizes = kSafetyExteriorSizes},
+    {.name = "safety-exterior", .description = "exterior-ray maps (§6.2): time and steps per elevation",
+     .maps = kSafetyExteriorMaps, .techniques = kSafetyExteriorRows, .width = 1280, .height = 1024,
+     .distance = 0.6f},
+    {.name = "safety-paper", .description = "safety shapes Fig. 29 / Table 1",
+     .maps = kSafetyPaperMaps, .techniques = kSafetyPaperRows, .elevations = kSafetyPaperElevations,
+     .caps = kSafetyPaperCaps, .width = 1280, .height = 1024,
+     .paperNotes = "Precomputed safety shapes (Fig. 29, 512² map covering a 1280×1024 screen, GTX 285): "
+                   "NA is accurate but slow; LS and RC are faster but show artefacts; SD and CC are exact "
+                   "and fastest, CC with φ_max = 45° best. Table 1 gives frame rates without φ_max; NA "
+                   "(our `exact`) is only drawn as a bar in Fig. 29, so it has no ratio here.",
+     .paperRatios = kSafetyPaperRatios},
+};
+
+constexpr std::string_view kQuadtreePaperMaps[] = {"gen:fbm:256x256", "gen:fbm:512x512", "gen:fbm:1024x1024",
+                                                   "gen:fbm:2048x2048"};
+constexpr std::string_view kQuadtreePaperRows[] = {"quadtree", "maxmip", "quadtree-oriented", "linear", "parallax",
+                                                   "exact"};
+constexpr float kQuadtreePaperElevations[] = {15.3f, 52.7f};
+constexpr PaperRatioSpec kQuadtreePaperRatios[] = {
+    {"quadtree 2048² / 256²", "63 / 95 fps = 0.66× (Table 1)", "quadtree", "fbm:2048x2048", "quadtree", "fbm:256x256"},
+    {"quadtree 1024² / 256²", "71 / 95 fps = 0.75× (Table 1)", "quadtree", "fbm:1024x1024", "quadtree", "fbm:256x256"},
+    {"parallax 2048² / 256²", "354 / 360 fps = 0.98× (Table 1)", "parallax", "fbm:2048x2048", "parallax", "fbm:256x256"},
+    {"quadtree / relief mapping, 256²", "95 / 188 fps = 0.51× (Table 1)", "quadtree", "fbm:256x256", "linear", "fbm:256x256"},
+};
+// bench_quadtree's evidence: steps per ray against map size, and throughput beside Embree.
+constexpr std::string_view kQuadtreeScalingMaps[] = {"gen:fbm:{N}x{N}:1", "../shared/data/earth-srtm-10800x5400.png"};
+constexpr std::string_view kQuadtreeScalingRows[] = {"quadtree", "quadtree:ascend=0", "maxmip", "quadtree-oriented",
+                                                     "exact"};
+constexpr int kQuadtreeScalingSizes[] = {256, 512, 1024, 2048, 4096, 8192};
+constexpr std::string_view kQuadtreeSpeedMaps[] = {"gen:fbm:1024x1024:1", "gen:fbm:4096x4096:1"};
+constexpr float kQuadtreeSpeedElevations[] = {15.3f, 40.2f, 65.1f};
+constexpr StudySpec kQuadtreeStudies[] = {
+    {.name = "quadtree-scaling", .description = "steps per ray vs map size 256²-8192² and the earth SRTM map",
+     .kind = StudyKind::Scaling, .maps = kQuadtreeScalingMaps, .techniques = kQuadtreeScalingRows,
+     .sizes = kQuadtreeScalingSizes, .width = 320, .height = 256, .distance = 0.6f},
+    {.name = "quadtree-speed", .description = "quadtree, maxmip, oriented, exact beside Embree at 1024² and 4096²",
+     .maps = kQuadtreeSpeedMaps, .techniques = kQuadtreeScalingRows, .elevations = kQuadtreeSpeedElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
+    {.name = "quadtree-paper", .description = "quadtree scaling 256²-2048²",
+     .maps = kQuadtreePaperMaps, .techniques = kQuadtreePaperRows, .elevations = kQuadtreePaperElevations,
+     .paperNotes = "Quadtree relief mapping: steps grow like log p for steep views and toward sqrt p for "
+                   "grazing ones; the frame rate falls slowly from 256² to 2048² maps (Table 1, average fps "
+                   "over view angles, GeForce 6600GT SLI). The paper's relief mapping doubles its linear "
+                   "steps per doubling of the map; our `linear` keeps its default step count, so its ratio "
+                   "is not comparable.",
+     .paperRatios = kQuadtreePaperRatios},
+};
+
+constexpr std::string_view kCurvesPaperMaps[] = {"gen:sine:512x512"};
+constexpr std::string_view kCurvesPaperRows[] = {"curves", "exact"};
+constexpr float kCurvesPaperElevations[] = {20.0f, 60.0f};
+constexpr StudySpec kCurvesStudies[] = {
+    {.name = "curves-paper", .description = "visibility curves Table 1",
+     .maps = kCurvesPaperMaps, .techniques = kCurvesPaperRows, .elevations = kCurvesPaperElevations,
+     .paperNotes = "Geometric displacement on plane and sphere, Table 1 (sine map, 2 samples per pixel)."},
+};
+
+// exact against Embree on the same triangles and rays (docs/benchmarks-exact-embree.md).
+constexpr std::string_view kExactEmbreeMaps[] = {"gen:fbm:512x512:1", "gen:fbm:2048x2048:1",
+                                                 "data/earth-topology-2048x1024.png"};
+constexpr std::string_view kExactEmbreeRows[] = {"exact"};
+constexpr float kExactEmbreeElevations[] = {15.3f, 52.7f};
+constexpr StudySpec kExactStudies[] = {
+    {.name = "exact-embree", .description = "exact vs Embree rtcIntersect1/16, same rays (was bench_exact_embree)",
+     .maps = kExactEmbreeMaps, .techniques = kExactEmbreeRows, .elevations = kExactEmbreeElevations,
+     .width = 1280, .height = 1024, .distance = 0.6f, .peerTable = true},
+};
+
+// bench_cones: cone and relaxed-cone builders (safe and faithful), build time per size, and error
+// vs cap / steps vs elevation per builder (the old bench's SRTM window is not a registry source).
+constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=1"};
+constexpr int kConeBuildSizes[] = {256, 512, 1024, 2048};
+constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1"};
+constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=0",
+                                                 "relaxed-cone:variant=1"};
+constexpr StudySpec kConeStudies[] = {
+    {.name = "cones-builds", .description = "cone map builds (safe, faithful, relaxed faithful), wall and CPU",
+     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
+    {.name = "cones-quality", .description = "cone builders: error vs cap, steps vs elevation, throughput",
+     .maps = kConeQualityMaps, .techniques = kConeQualityRows, .caps = kCapsAndDefault, .width = 256,
+     .height = 256, .distance = 1.2f},
+};
+
 // The built-in rows. A function-local table, so that a row registered by another translation
 // unit's static initializer (a plug-in, a test) never sees it uninitialized.
 std::span<const TechniqueInfo> builtinRows() {
@@ -87,7 +235,7 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "exact", .paper = "Baboud & Décoret 2006; Amanatides & Woo 1987 (safety shapes §5.2.1)",
      .summary = "reference: cell-by-cell grid traversal, two triangle tests per cell",
      .contract = Contract::Exact, .params = kExactParams, .create = createExact,
-     .check = checkExact, .glsl = "exact/exact.glsl", .reference = true, .createSphere = createExactSphere},
+     .check = checkExact, .glsl = "exact/exact.glsl", .studies = kExactStudies, .reference = true, .createSphere = createExactSphere},
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
@@ -101,7 +249,8 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
      .buildMaps = buildQuadtreeMaps, .check = checkMaps<maxPyramidFor>,
      .glsl = "quadtree/quadtree.glsl", .glslConstants = kPyramidWalkGlslConstants,
-     .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases},
+     .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases,
+     .studies = kQuadtreeStudies},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
@@ -117,7 +266,8 @@ static const TechniqueInfo kTechniques[] = {
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
      .buildMaps = buildConeMaps, .check = checkCone, .glsl = "cone/cone.glsl",
-     .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases},
+     .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases,
+     .studies = kConeStudies},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
@@ -128,7 +278,8 @@ static const TechniqueInfo kTechniques[] = {
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
      .buildMaps = buildQdmMaps, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
-     .pathCases = kQdmPathCases},
+     .pathCases = kQdmPathCases,
+     .studies = kQdmStudies},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
@@ -142,11 +293,11 @@ static const TechniqueInfo kTechniques[] = {
      .buildMaps = buildSafetyCcMaps, .check = checkMaps<makeSafetyCcTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases},
+     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,
-     .image = ImageMethod::VisibilityCurves},
+     .studies = kCurvesStudies, .image = ImageMethod::VisibilityCurves},
 };
 // clang-format on
 return kTechniques;

@@ -83,13 +83,16 @@ struct PaperRatioSpec {
 struct StudySpec {
     std::string_view name, description;
     StudyKind kind = StudyKind::Views;
-    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths
+    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths ({N}: each size)
     std::span<const std::string_view> techniques;  // NAME or NAME:PARAM=V[:PARAM=V]
     std::span<const float> elevations;             // empty = the standard elevations
     std::span<const int> caps;                     // iteration caps, for rows that have one
     std::span<const int> sizes;                    // map sizes N (N×N) for Builds and Scaling
     int width = 640, height = 512;                 // primary rays per view
     float depthRatio = 0.1f;
+    float distance = 1.0f;   // camera distance in box diagonals
+    bool peerTable = false;  // the report adds the reference-vs-peers table per view
+    std::string_view compare;  // "A/B" (row labels): the report adds A-vs-B tables by view and cap
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
 };

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-namespace relief {
+namespace relief::bench {
 
 struct PlotSeries {
     std::string label;
@@ -19,4 +19,4 @@ struct PlotSpec {
 // Non-positive values are skipped on log axes.
 std::string svgLinePlot(const PlotSpec& spec, const std::vector<PlotSeries>& series);
 
-}  // namespace relief
+}  // namespace relief::bench

@@ -1,26 +1,34 @@
 #pragma once
-// What `relief bench` writes from its rows: the per-technique summary (with speed ratios to exact
-// and to the run's peer, measured on the same rays in the same run), error-vs-cap and
-// steps-vs-elevation tables, the paper's figures beside ours, as Markdown and as HTML.
-#include <relief/cli/bench_presets.h>
+// What `relief bench` writes from its rows, one schema (BenchRow) in four forms: results.csv,
+// results.json, report.md and index.html (the per-row summary with speed ratios to the reference
+// and to the backend's peer, measured on the same rays in the same run; error-vs-cap,
+// steps-vs-elevation, map build and scaling tables; the paper's figures beside ours), plus the
+// SVG plots.
+#include <relief/bench/presets.h>
 #include <relief/render/compare.h>
+
+#include <nlohmann/json.hpp>
 
 #include <string>
 #include <vector>
 
-namespace relief::cli {
+namespace relief::bench {
 
 struct BenchRow {
-    std::string technique, contract, map, backend;
+    std::string technique;  // the row's label: NAME[:P=V...], or a peer's name
+    std::string contract, map, backend;
     float elevation = 0;
     int cap = 0;  // 0 = the technique's default / none
     ErrorStats stats;
-    double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, bytesPerTexel = 0;
+    double agreeRate = 0;  // pixels with the reference's hit/miss and |Δt| <= 1e-3 texel (the exact contract)
+    Summary boxSteps;      // steps over the rays that enter the relief's box
+    int64_t mapSamples = 0;
+    double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, buildCpuSeconds = 0, bytesPerTexel = 0;
     std::string images;  // file prefix relative to the output folder, empty if none
 };
 
 struct BenchMeta {
-    std::string preset, machine, imageSize, date, glDevice, commandLine;
+    std::string preset, machine, imageSize, date, glDevice, commandLine, loadBefore, loadAfter;
     int threads = 0;
     bool timings = true;  // false with --deterministic
 };
@@ -39,9 +47,15 @@ std::vector<TechniqueSummary> summarize(const std::vector<BenchRow>& rows, const
 // run lacks one side).
 std::string measuredRatio(const std::vector<BenchRow>& rows, const PaperRatio& ratio);
 
+nlohmann::json rowJson(const BenchRow& row, bool timings);
+std::string resultsJson(const std::vector<BenchRow>& rows, const nlohmann::json& meta, bool timings);
+std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings);
+// error_vs_cap.svg and steps_vs_elevation.svg, in that order.
+std::pair<std::string, std::string> benchPlots(const std::vector<BenchRow>& rows, const BenchConfig& config);
+
 // `assetPrefix` is prepended to the plot file names (the report may live in another folder).
 std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config,
                           const BenchMeta& meta, const std::string& assetPrefix);
 std::string benchHtml(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta);
 
-}  // namespace relief::cli
+}  // namespace relief::bench

@@ -1,11 +1,11 @@
-#include <relief/report/svg_plot.h>
+#include <relief/bench/svg_plot.h>
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
-namespace relief {
+namespace relief::bench {
 
 namespace {
 
@@ -96,4 +96,4 @@ std::string svgLinePlot(const PlotSpec& spec, const std::vector<PlotSeries>& ser
     return svg + "</svg>\n";
 }
 
-}  // namespace relief
+}  // namespace relief::bench

@@ -1,0 +1,88 @@
+#include <relief/bench/peers.h>
+
+#include <relief/bench/timing.h>
+#include <relief/core/parallel.h>
+#include <relief/embree/embree_scene.h>
+#include <relief/gl/camera.h>
+#include <relief/gl/gl_tracer.h>
+
+namespace relief::bench {
+
+namespace {
+
+constexpr PeerInfo kPeers[] = {
+    {"embree-1", "cpu", PeerKind::Embree1, true},
+    {"embree-16", "cpu", PeerKind::Embree16, false},
+    {"mesh", "gl", PeerKind::Mesh, true},
+};
+
+}  // namespace
+
+std::span<const PeerInfo> peers() { return kPeers; }
+
+const PeerInfo* summaryPeerOf(std::string_view backend) {
+    for (const PeerInfo& p : kPeers)
+        if (p.backend == backend && p.summaryPeer) return &p;
+    return nullptr;
+}
+
+bool isPeer(std::string_view name) {
+    for (const PeerInfo& p : kPeers)
+        if (p.name == name) return true;
+    return false;
+}
+
+struct EmbreePeer::Scene {
+    std::unique_ptr<EmbreeScene> scene;
+};
+
+EmbreePeer::~EmbreePeer() = default;
+
+Result<std::unique_ptr<EmbreePeer>> EmbreePeer::create(const Surface& surface) {
+    std::unique_ptr<EmbreePeer> peer(new EmbreePeer);
+    peer->m_scene = std::make_unique<Scene>();
+    const auto start = std::chrono::steady_clock::now();
+    auto scene = EmbreeScene::create(surface);
+    if (!scene) return scene.error();
+    peer->m_scene->scene = std::move(*scene);
+    peer->m_buildSeconds = secondsSince(start);
+    return peer;
+}
+
+PeerResult EmbreePeer::run(PeerKind kind, const Camera& camera, int repeats) const {
+    RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);
+    const bool packets = kind == PeerKind::Embree16;
+    const EmbreeScene& scene = *m_scene->scene;
+    const std::vector<Ray> rays = primaryRays(camera);
+    const std::vector<size_t> order = packetOrder(camera.width(), camera.height());
+    std::vector<Ray> packed;
+    if (packets) {
+        packed.resize(rays.size());
+        for (size_t k = 0; k < order.size(); ++k) packed[k] = rays[order[k]];
+    }
+    const std::vector<Ray>& input = packets ? packed : rays;
+    std::vector<Hit> hits(rays.size());
+    PeerResult result;
+    result.seconds = bestOf(repeats, [&] {
+        parallelRanges(int64_t(input.size() / 256), 1, [&](int64_t begin, int64_t end) {
+            const size_t first = size_t(begin) * 256, count = size_t(end - begin) * 256;
+            auto in = std::span(input).subspan(first, count);
+            auto out = std::span(hits).subspan(first, count);
+            packets ? scene.intersect16(in, out) : scene.intersect1(in, out);
+        });
+    });
+    result.hits = Image<Hit>(camera.width(), camera.height());
+    for (size_t k = 0; k < hits.size(); ++k) result.hits.pixels[packets ? order[k] : k] = hits[k];
+    return result;
+}
+
+Result<PeerResult> runMeshPeer(const Surface& surface, const Camera& camera, int frames) {
+    auto timing = timeRasterizedMesh(surface, gl::cameraUniforms(camera), {frames, 2});
+    if (!timing) return timing.error();
+    PeerResult result;
+    result.seconds = timing->msPerFrame * 1e-3;
+    result.glDevice = timing->device;
+    return result;
+}
+
+}  // namespace relief::bench

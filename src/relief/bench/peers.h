@@ -1,0 +1,54 @@
+#pragma once
+// The peers every technique is measured against in the same run (DESIGN §8): Embree on the same
+// triangles (rtcIntersect1, rtcIntersect16 on 4×4 packets) on the CPU, the rasterized mesh on GL.
+#include <relief/core/error.h>
+#include <relief/core/image.h>
+#include <relief/render/camera.h>
+#include <relief/surface/surface.h>
+
+#include <memory>
+#include <span>
+#include <string_view>
+
+namespace relief::bench {
+
+enum class PeerKind : uint8_t { Embree1, Embree16, Mesh };
+
+struct PeerInfo {
+    std::string_view name;
+    std::string_view backend;  // "cpu" or "gl"
+    PeerKind kind;
+    bool summaryPeer;  // the one the summary's "× peer" divides by on its backend
+};
+
+std::span<const PeerInfo> peers();
+// The peer the summary compares rows of `backend` with, or null.
+const PeerInfo* summaryPeerOf(std::string_view backend);
+bool isPeer(std::string_view name);
+
+// One timed run of a peer over the camera's primary rays (CPU) or frame (GL).
+struct PeerResult {
+    Image<Hit> hits;       // empty for the mesh (it draws, it does not report hits)
+    double seconds = 0;    // best of the repeats; ms per frame / 1000 for GL
+    std::string glDevice;  // GL only
+};
+
+// The Embree scene of a surface, built once per heightfield (clamp edges only).
+class EmbreePeer {
+public:
+    static Result<std::unique_ptr<EmbreePeer>> create(const Surface& surface);
+    ~EmbreePeer();
+    double buildSeconds() const { return m_buildSeconds; }
+    PeerResult run(PeerKind kind, const Camera& camera, int repeats) const;
+
+private:
+    EmbreePeer() = default;
+    struct Scene;
+    std::unique_ptr<Scene> m_scene;
+    double m_buildSeconds = 0;
+};
+
+// The rasterized mesh: ms per frame with glFinish, `frames` timed frames.
+Result<PeerResult> runMeshPeer(const Surface& surface, const Camera& camera, int frames);
+
+}  // namespace relief::bench

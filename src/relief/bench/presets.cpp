@@ -1,0 +1,251 @@
+#include <relief/bench/presets.h>
+
+#include <relief/render/camera.h>
+#include <relief/techniques/registry.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+namespace relief::bench {
+
+namespace {
+
+struct GlobalPreset {
+    const char* name;
+    const char* description;
+    BenchConfig (*make)();
+};
+
+std::vector<std::string> allTechniques() {
+    std::vector<std::string> names;
+    for (const TechniqueInfo& info : techniques()) names.emplace_back(info.name);
+    return names;
+}
+
+BenchConfig quick() {
+    BenchConfig c;
+    c.maps = {"gen:fbm:64x64", "gen:walls:48x48"};
+    c.techniques = allTechniques();
+    c.elevations = {27.8f, 65.1f};
+    c.caps = {8, 32};
+    c.size = {96, 64};
+    c.repeats = 1;
+    return c;
+}
+
+BenchConfig standard() {
+    BenchConfig c;
+    c.maps = {"gen:fbm:512x512", "data/colorado-elevation-400.png"};
+    c.techniques = allTechniques();
+    c.elevations = {15.3f, 40.2f, 65.1f, 90.0f};
+    c.caps = {8, 24, 200};
+    return c;
+}
+
+// Issue 9's GPU comparison: 1920×1080, 1024² maps, the standard elevations, plus the mesh.
+BenchConfig gpu() {
+    BenchConfig c;
+    c.maps = {"gen:fbm:1024x1024", "gen:peaks6:1024x1024"};
+    c.techniques = allTechniques();
+    c.elevations.assign(std::begin(kStandardElevations), std::end(kStandardElevations));
+    c.size = {1920, 1088};
+    c.backends = {"gl"};
+    c.embree = false;
+    c.repeats = 1;
+    c.glFrames = 20;
+    c.paperNotes = "Safety shapes §8: cylinder-cone 395 fps vs 170 fps for the rasterized mesh (GTX 285, "
+                   "1024² map, 1280×1024).";
+    c.paperRatios = {{"CC / rasterized mesh, 1024²", "395 / 170 fps = 2.32× (safety shapes §8)", "safety-cc", "",
+                      "mesh", "", "gl"}};
+    return c;
+}
+
+const GlobalPreset kGlobalPresets[] = {
+    {"quick", "tiny maps, for CI", quick},
+    {"default", "fbm 512² and the Colorado DEM, four elevations", standard},
+    {"gpu", "GL backend: 1920×1088, 1024² maps, standard elevations, with the rasterized mesh", gpu},
+};
+
+std::vector<std::string> strings(std::span<const std::string_view> views) {
+    return std::vector<std::string>(views.begin(), views.end());
+}
+
+BenchConfig fromStudy(const StudySpec& s) {
+    BenchConfig c;
+    c.kind = s.kind;
+    c.maps = strings(s.maps);
+    c.techniques = strings(s.techniques);
+    if (s.elevations.empty())
+        c.elevations.assign(std::begin(kStandardElevations), std::end(kStandardElevations));
+    else
+        c.elevations.assign(s.elevations.begin(), s.elevations.end());
+    c.caps.assign(s.caps.begin(), s.caps.end());
+    c.sizes.assign(s.sizes.begin(), s.sizes.end());
+    c.size = {s.width, s.height};
+    c.depthRatio = s.depthRatio;
+    c.distance = s.distance;
+    c.peerTable = s.peerTable;
+    c.compare = std::string(s.compare);
+    c.paperNotes = std::string(s.paperNotes);
+    for (const PaperRatioSpec& r : s.paperRatios)
+        c.paperRatios.push_back({std::string(r.what), std::string(r.paper), std::string(r.numeratorTechnique),
+                                 std::string(r.numeratorMap), std::string(r.denominatorTechnique),
+                                 std::string(r.denominatorMap), std::string(r.backend)});
+    return c;
+}
+
+template <class T>
+Result<std::vector<T>> parseList(const std::string& text, const char* what) {
+    std::vector<T> values;
+    size_t start = 0;
+    while (start <= text.size()) {
+        size_t comma = text.find(',', start);
+        if (comma == std::string::npos) comma = text.size();
+        const std::string item = text.substr(start, comma - start);
+        char* end = nullptr;
+        const double v = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0')
+            return makeError(ErrorKind::BadArgument, "{} '{}': expected a comma-separated list of numbers", what, text);
+        values.push_back(T(v));
+        start = comma + 1;
+    }
+    return values;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+    std::vector<std::string> parts;
+    size_t start = 0;
+    while (start <= text.size()) {
+        size_t end = text.find(separator, start);
+        if (end == std::string::npos) end = text.size();
+        parts.push_back(text.substr(start, end - start));
+        start = end + 1;
+    }
+    return parts;
+}
+
+// gen:NAME:WxH[:seed] → gen:NAME:64x64.
+std::string smokeMap(const std::string& map) {
+    if (map.rfind("gen:", 0) != 0) return map;
+    std::vector<std::string> parts = split(map, ':');
+    return "gen:" + parts[1] + ":64x64";
+}
+
+}  // namespace
+
+std::vector<PresetEntry> presetList() {
+    std::vector<PresetEntry> list;
+    for (const GlobalPreset& p : kGlobalPresets) list.push_back({p.name, p.description, ""});
+    for (const TechniqueInfo& info : techniques())
+        for (const StudySpec& s : info.studies)
+            list.push_back({std::string(s.name), std::string(s.description), std::string(info.name)});
+    return list;
+}
+
+std::string presetNames() {
+    std::string names;
+    for (const PresetEntry& p : presetList()) names += (names.empty() ? "" : ", ") + p.name;
+    return names;
+}
+
+Result<BenchConfig> presetConfig(const std::string& name) {
+    std::optional<BenchConfig> found;
+    for (const GlobalPreset& p : kGlobalPresets)
+        if (name == p.name) found = p.make();
+    for (const TechniqueInfo& info : techniques())
+        for (const StudySpec& s : info.studies)
+            if (name == s.name) found = fromStudy(s);
+    if (!found) return makeError(ErrorKind::BadArgument, "unknown preset '{}' (known: {})", name, presetNames());
+    found->name = name;
+    std::erase_if(found->techniques, [](const std::string& t) { return !parseRowSpec(t); });
+    return *found;
+}
+
+Result<RowSpec> parseRowSpec(const std::string& text) {
+    const size_t colon = text.find(':');
+    RowSpec row;
+    row.label = text;
+    auto info = lookupTechnique(text.substr(0, colon));
+    if (!info) return info.error();
+    row.info = *info;
+    if (colon == std::string::npos) return row;
+    std::string params = text.substr(colon + 1);
+    std::replace(params.begin(), params.end(), ':', ',');
+    auto parsed = parseParamList(params);
+    if (!parsed) return makeError(ErrorKind::BadArgument, "-t '{}': {}", text, parsed.error().message);
+    if (auto check = resolveParams(*row.info, *parsed); !check) return check.error();
+    row.params = std::move(*parsed);
+    return row;
+}
+
+Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
+    if (!o.techniques.empty()) {
+        c.techniques = o.techniques == "all" ? allTechniques() : split(o.techniques, ',');
+        for (const std::string& t : c.techniques)
+            if (auto row = parseRowSpec(t); !row) return row.error();
+    }
+    if (!o.maps.empty()) c.maps = split(o.maps, ',');
+    if (!o.elevations.empty()) {
+        auto v = parseList<float>(o.elevations, "--elevations");
+        if (!v) return v.error();
+        c.elevations = *v;
+    }
+    if (!o.caps.empty()) {
+        auto v = parseList<int>(o.caps, "--caps");
+        if (!v) return v.error();
+        for (int cap : *v)
+            if (cap < 1) return makeError(ErrorKind::BadArgument, "--caps: {} is not a positive cap", cap);
+        c.caps = *v;
+    }
+    if (!o.sizes.empty()) {
+        auto v = parseList<int>(o.sizes, "--map-sizes");
+        if (!v) return v.error();
+        for (int n : *v)
+            if (n < 2 || n > 16384) return makeError(ErrorKind::BadArgument, "--map-sizes: {} is not in 2..16384", n);
+        c.sizes = *v;
+    }
+    if (!o.backends.empty()) {
+        c.backends = split(o.backends, ',');
+        for (const std::string& b : c.backends)
+            if (b != "cpu" && b != "gl") return makeError(ErrorKind::BadArgument, "--backend '{}': cpu or gl", b);
+    }
+    if (!o.size.empty()) {
+        int w = 0, h = 0;
+        if (std::sscanf(o.size.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w % 16 || h % 16 || w > 8192 || h > 8192)
+            return makeError(ErrorKind::BadArgument, "--size '{}': WxH, multiples of 16 from 16 to 8192", o.size);
+        c.size = {w, h};
+    }
+    if (!o.edge.empty()) {
+        if (o.edge != "clamp" && o.edge != "repeat")
+            return makeError(ErrorKind::BadArgument, "--edge '{}': clamp or repeat", o.edge);
+        c.edge = o.edge;
+    }
+    if (o.depth) c.depth = *o.depth;
+    if (o.depthRatio) c.depthRatio = *o.depthRatio;
+    if (o.azimuth) c.azimuth = *o.azimuth;
+    if (o.distance) {
+        if (!(*o.distance > 0.0f)) return makeError(ErrorKind::BadArgument, "--distance must be > 0");
+        c.distance = *o.distance;
+    }
+    if (o.repeats < 0) return makeError(ErrorKind::BadArgument, "--repeats must be >= 1");
+    if (o.repeats > 0) c.repeats = o.repeats;
+    if (o.smoke) {
+        // Generated maps shrink to 64²; files (which cannot) stay only when there is no generated one.
+        std::vector<std::string> maps;
+        for (const std::string& m : c.maps)
+            if (m.rfind("gen:", 0) == 0 && std::find(maps.begin(), maps.end(), smokeMap(m)) == maps.end())
+                maps.push_back(smokeMap(m));
+        if (maps.empty()) maps = c.maps;
+        c.maps = maps;
+        if (!c.sizes.empty()) c.sizes = {64};
+        if (c.elevations.size() > 1) c.elevations = {c.elevations.front()};
+        c.size = {32, 32};
+        c.repeats = 1;
+        c.glFrames = 1;
+    }
+    if (c.techniques.empty()) return makeError(ErrorKind::BadArgument, "no techniques to run");
+    return {};
+}
+
+}  // namespace relief::bench

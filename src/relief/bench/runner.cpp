@@ -1,0 +1,487 @@
+#include <relief/bench/runner.h>
+
+#include <relief/bench/peers.h>
+#include <relief/bench/report.h>
+#include <relief/bench/timing.h>
+#include <relief/core/parallel.h>
+#include <relief/core/progress.h>
+#include <relief/gl/camera.h>
+#include <relief/gl/gl_tracer.h>
+#include <relief/io/image_write.h>
+#include <relief/render/compare.h>
+#include <relief/render/renderer.h>
+#include <relief/render/surface_source.h>
+#include <relief/techniques/registry.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+namespace relief::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Inside the run, errors unwind to run() as this; run() returns them.
+struct Failure {
+    Error error;
+};
+template <class T>
+T orFail(Result<T> result) {
+    if (!result) throw Failure{result.error()};
+    return std::move(*result);
+}
+void orFail(Status status) {
+    if (!status) throw Failure{status.error()};
+}
+
+using Overrides = std::vector<std::pair<std::string, double>>;
+
+std::string slug(std::string text) {
+    for (char& c : text)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '.') c = '_';
+    return text;
+}
+
+// The row's iteration cap parameter, when it has a real one (0 = "none" defaults do not count).
+const ParamSpec* capParam(const TechniqueInfo& info) {
+    const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap);
+    return cap && cap->defaultValue != 0 ? cap : nullptr;
+}
+
+// Against the reference: the pixels in the exact contract's agreement (same hit/miss and
+// |Δt| <= 1e-3 texel), and steps over the rays that enter the relief's box.
+void agreement(BenchRow& row, const Image<Hit>& hits, const Image<Hit>& reference, const std::vector<char>& inBox) {
+    size_t agree = 0;
+    std::vector<double> steps;
+    for (size_t k = 0; k < hits.pixels.size(); ++k) {
+        const Hit& a = hits.pixels[k];
+        const Hit& b = reference.pixels[k];
+        agree += a.hit == b.hit && (!a.hit || std::abs(a.t - b.t) <= 1e-3f);
+        if (inBox[k]) steps.push_back(double(a.steps));
+    }
+    row.agreeRate = hits.pixels.empty() ? 0.0 : double(agree) / double(hits.pixels.size());
+    row.boxSteps = relief::summarize(std::move(steps));
+}
+
+size_t mapBytes(const TechniqueMaps& maps) {
+    size_t bytes = 0;
+    for (const MapArray& a : maps.arrays) bytes += a.data.size() * sizeof(float);
+    return bytes;
+}
+
+std::string mapLabel(const std::string& source) {
+    return source.rfind("gen:", 0) == 0 ? source.substr(4) : fs::path(source).stem().string();
+}
+
+std::string resolveDataPath(const std::string& source) {
+    if (source.rfind("gen:", 0) == 0 || fs::path(source).is_absolute()) return source;
+    for (const std::string& base : {std::string("."), std::string(RELIEF_SOURCE_DIR)})
+        if (fs::exists(base + "/" + source)) return base + "/" + source;
+    return source;
+}
+
+// The heightfields of the run: in a Builds or Scaling study, a map with {N} in it stands for one
+// map per size N (gen:fbm:{N}x{N}:1); the others are taken once.
+std::vector<std::string> runMaps(const BenchConfig& c) {
+    std::vector<std::string> maps;
+    for (const std::string& m : c.maps)
+        if (c.sizes.empty() || m.find("{N}") == std::string::npos) maps.push_back(m);
+    std::vector<std::string> sized;
+    for (int n : c.sizes)
+        for (std::string m : c.maps) {
+            if (m.find("{N}") == std::string::npos) continue;
+            for (size_t at; (at = m.find("{N}")) != std::string::npos;) m.replace(at, 3, std::to_string(n));
+            sized.push_back(m);
+        }
+    sized.insert(sized.end(), maps.begin(), maps.end());
+    return sized;
+}
+
+// A row's parameters from the global options: --param NAME=V where the row has NAME, and the
+// --visibility / --phi-max roles where it has them; an option that no row takes is an error.
+Result<std::vector<Overrides>> globalOverrides(const RunOptions& o, const std::vector<RowSpec>& rows) {
+    struct Global {
+        std::string option;
+        std::optional<ParamRole> role;
+        std::string name;
+        double value;
+    };
+    std::vector<Global> globals;
+    for (const std::string& p : o.params) {
+        auto parsed = parseParamList(p);
+        if (!parsed || parsed->size() != 1)
+            return makeError(ErrorKind::BadArgument, "--param '{}': expected NAME=NUMBER", p);
+        globals.push_back({"--param " + p, std::nullopt, parsed->front().first, parsed->front().second});
+    }
+    if (!o.visibility.empty()) {
+        if (o.visibility != "all" && o.visibility != "exterior")
+            return makeError(ErrorKind::BadArgument, "--visibility '{}': all or exterior", o.visibility);
+        globals.push_back({"--visibility " + o.visibility, ParamRole::Visibility, "", o.visibility == "exterior" ? 1.0 : 0.0});
+    }
+    if (o.phiMax) globals.push_back({fmt::format("--phi-max {}", *o.phiMax), ParamRole::PhiMax, "", *o.phiMax});
+    std::vector<Overrides> perRow(rows.size());
+    for (const Global& g : globals) {
+        bool taken = false;
+        for (size_t k = 0; k < rows.size(); ++k) {
+            const ParamSpec* spec = nullptr;
+            if (g.role) spec = paramWithRole(*rows[k].info, *g.role);
+            for (const ParamSpec& s : rows[k].info->params)
+                if (!g.role && s.name == g.name) spec = &s;
+            if (!spec) continue;
+            perRow[k].emplace_back(std::string(spec->name), g.value);
+            taken = true;
+        }
+        if (!taken) return makeError(ErrorKind::BadArgument, "{}: none of the selected techniques takes it", g.option);
+    }
+    // The row's own variant parameters are the more specific: they come last and win.
+    for (size_t k = 0; k < rows.size(); ++k) {
+        perRow[k].insert(perRow[k].end(), rows[k].params.begin(), rows[k].params.end());
+        if (auto check = resolveParams(*rows[k].info, perRow[k]); !check) return check.error();
+    }
+    return perRow;
+}
+
+// One row on one heightfield: its maps, built once (or taken from --maps) and shared by its caps
+// and backends.
+struct PreparedRow {
+    const RowSpec* spec = nullptr;
+    Overrides overrides;
+    std::optional<TechniqueMaps> built;
+    const TechniqueMaps* maps = nullptr;
+    Elapsed build;
+    double bytesPerTexel = 0;
+    std::map<int, std::pair<std::unique_ptr<Tracer>, double>> cpu;  // per cap: tracer, create seconds
+
+    Overrides at(int cap) const {
+        Overrides o = overrides;
+        if (cap > 0) o.emplace_back(std::string(capParam(*spec->info)->name), double(cap));
+        return o;
+    }
+};
+
+class Runner {
+public:
+    Runner(const RunOptions& o, BenchConfig config, std::vector<RowSpec> rows, std::vector<Overrides> overrides)
+        : m_o(o), m_config(std::move(config)), m_specs(std::move(rows)), m_overrides(std::move(overrides)) {}
+
+    void run() {
+        std::error_code ec;
+        fs::create_directories(fs::path(m_o.outDir) / "images", ec);
+        if (ec) throw Failure{makeError(ErrorKind::Io, "{}: cannot create folder: {}", m_o.outDir, ec.message())};
+        m_loadBefore = loadAverage();
+        const std::vector<std::string> maps = runMaps(m_config);
+        const bool views = m_config.kind != StudyKind::Builds;
+        Progress progress("bench", int64_t(maps.size() * (views ? m_config.elevations.size() : 1)));
+        for (const std::string& source : maps) {
+            SurfaceOptions so;
+            so.source = resolveDataPath(source);
+            so.depth = m_config.depth;
+            so.depthRatio = m_config.depthRatio;
+            so.edge = m_config.edge;
+            auto surface = orFail(makeSurface(so, orFail(loadHeightfield(so))));
+            m_mapSamples = surface->heightfield().sampleCount();
+            std::shared_ptr<const MapFile> mapFile;
+            if (!m_o.mapsPath.empty()) mapFile = orFail(loadCheckedMaps(m_o.mapsPath, *surface));
+            std::vector<PreparedRow> rows = prepare(surface, mapFile.get());
+            if (views)
+                runViews(mapLabel(source), surface, rows, progress);
+            else
+                recordBuilds(mapLabel(source), rows, progress);
+        }
+        writeResults();
+        if (m_o.judge) judge();
+    }
+
+private:
+    // Maps once per (row, heightfield): parameters with role IterationCap do not shape them.
+    std::vector<PreparedRow> prepare(std::shared_ptr<const Surface> surface, const MapFile* mapFile) {
+        std::vector<PreparedRow> rows(m_specs.size());
+        for (size_t k = 0; k < m_specs.size(); ++k) {
+            PreparedRow& row = rows[k];
+            row.spec = &m_specs[k];
+            row.overrides = m_overrides[k];
+            const TechniqueInfo& info = *row.spec->info;
+            if (!info.buildMaps) continue;
+            if (mapFile) {
+                row.maps = orFail(techniqueInput(info, surface, row.overrides, mapFile, m_o.mapsPath)).maps;
+            } else {
+                const TechniqueInput input = orFail(techniqueInput(info, surface, row.overrides));
+                Result<TechniqueMaps> maps = makeError(ErrorKind::Runtime, "not built");
+                row.build = timeOnce([&] { maps = info.buildMaps(input); });
+                row.built = orFail(std::move(maps));
+                row.maps = &*row.built;
+            }
+            row.bytesPerTexel = double(mapBytes(*row.maps)) / double(surface->heightfield().sampleCount());
+        }
+        return rows;
+    }
+
+    TechniqueInput inputAt(const PreparedRow& row, std::shared_ptr<const Surface> surface, int cap) const {
+        TechniqueInput input = orFail(techniqueInput(*row.spec->info, std::move(surface), row.at(cap)));
+        input.maps = row.maps;
+        return input;
+    }
+
+    std::vector<int> capsOf(const TechniqueInfo& info) const {
+        return capParam(info) && !m_config.caps.empty() ? m_config.caps : std::vector<int>{0};
+    }
+
+    BenchRow newRow(const PreparedRow& row, const std::string& map, std::string backend, float elevation, int cap,
+                    const ParamValues& params) const {
+        BenchRow r;
+        r.technique = row.spec->label;
+        r.contract = std::string(toString(contractOf(*row.spec->info, params)));
+        r.map = map;
+        r.backend = std::move(backend);
+        r.elevation = elevation;
+        r.cap = cap;
+        r.buildSeconds = row.build.wall;
+        r.buildCpuSeconds = row.build.cpu;
+        r.bytesPerTexel = row.bytesPerTexel;
+        r.mapSamples = m_mapSamples;
+        return r;
+    }
+
+    void recordBuilds(const std::string& map, const std::vector<PreparedRow>& rows, Progress& progress) {
+        for (const PreparedRow& row : rows) {
+            if (!row.maps) continue;
+            const ParamValues params = orFail(resolveParams(*row.spec->info, row.overrides));
+            m_rows.push_back(newRow(row, map, "cpu", 0.0f, 0, params));
+        }
+        progress.advance();
+    }
+
+    void runViews(const std::string& label, std::shared_ptr<const Surface> surface, std::vector<PreparedRow>& rows,
+                  Progress& progress) {
+        const std::unique_ptr<Tracer> reference = orFail(referenceTechnique().create(
+            orFail(techniqueInput(referenceTechnique(), surface, {}))));
+        std::unique_ptr<EmbreePeer> embree;
+        if (m_config.embree && surface->edge() == EdgeMode::Clamp) embree = orFail(EmbreePeer::create(*surface));
+        for (float elevation : m_config.elevations) {
+            OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
+            const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
+            const Image<Hit> referenceHits = tracePrimary(camera, *reference);
+            m_inBox.clear();
+            for (const Ray& ray : primaryRays(camera)) m_inBox.push_back(!surface->clip(ray).empty());
+            if (embree) runEmbree(label, elevation, camera, *embree, referenceHits);
+            for (PreparedRow& row : rows) {
+                const std::vector<int> caps = capsOf(*row.spec->info);
+                for (int cap : caps) {
+                    if (wants("cpu")) {
+                        const bool images = !m_o.noImages && cap == caps.back();
+                        runCpu(row, label, elevation, cap, surface, camera, referenceHits, images);
+                    }
+                    if (wants("gl") && !row.spec->info->glsl.empty())
+                        runGl(row, label, elevation, cap, inputAt(row, surface, cap), camera, referenceHits);
+                }
+            }
+            if (wants("gl")) runMesh(label, elevation, *surface, camera);
+            progress.advance();
+        }
+    }
+
+    bool wants(const std::string& backend) const {
+        return std::find(m_config.backends.begin(), m_config.backends.end(), backend) != m_config.backends.end();
+    }
+
+    void runCpu(PreparedRow& row, const std::string& map, float elevation, int cap,
+                std::shared_ptr<const Surface> surface, const Camera& camera, const Image<Hit>& reference,
+                bool images) {
+        const TechniqueInput input = inputAt(row, surface, cap);
+        auto& [tracer, createSeconds] = row.cpu[cap];
+        if (!tracer) createSeconds = timeOnce([&] { tracer = orFail(row.spec->info->create(input)); }).wall;
+        BenchRow r = newRow(row, map, "cpu", elevation, cap, input.params);
+        r.buildSeconds += createSeconds;
+        Image<Hit> hits;
+        const double seconds = bestOf(m_config.repeats, [&] { hits = tracePrimary(camera, *tracer); });
+        r.stats = compareHits(hits, reference);
+        agreement(r, hits, reference, m_inBox);
+        r.mraysPerSecond = double(hits.pixels.size()) / seconds / 1e6;
+        r.msPerFrame = 1000.0 * seconds;
+        if (images) {
+            r.images = fmt::format("images/{}_{}_e{:.1f}", slug(map), slug(r.technique), elevation);
+            const std::string base = m_o.outDir + "/" + r.images;
+            Shading shading;
+            orFail(writePng(base + ".png", render(*surface, camera, *tracer, shading).color));
+            orFail(writePng(base + "-steps.png", stepsHeatmap(hits, r.stats, r.technique)));
+            orFail(writePng(base + "-error.png", errorHeatmap(hits, reference, r.stats, r.technique)));
+        }
+        m_rows.push_back(std::move(r));
+    }
+
+    // GPU rows: rays made on the GPU from the camera, ms per frame with glFinish (DESIGN §8);
+    // accuracy from one frame read back and compared with the reference on the same rays.
+    void runGl(const PreparedRow& row, const std::string& map, float elevation, int cap, const TechniqueInput& input,
+               const Camera& camera, const Image<Hit>& reference) {
+        const TechniqueInfo& info = *row.spec->info;
+        const gl::CameraUniforms uniforms = gl::cameraUniforms(camera);
+        const GlFrameTiming timing = orFail(timeGlFrame(info, input, uniforms, {m_config.glFrames, 2}));
+        Image<Hit> hits(camera.width(), camera.height());
+        hits.pixels = orFail(traceGlCamera(info, input, uniforms));
+        BenchRow r = newRow(row, map, "gl", elevation, cap, input.params);
+        r.stats = compareHits(hits, reference);
+        agreement(r, hits, reference, m_inBox);
+        r.msPerFrame = timing.msPerFrame;
+        r.mraysPerSecond = double(hits.pixels.size()) / (timing.msPerFrame * 1e-3) / 1e6;
+        m_glDevice = timing.device;
+        m_rows.push_back(std::move(r));
+    }
+
+    BenchRow peerRow(const PeerInfo& peer, const std::string& map, float elevation) const {
+        BenchRow r;
+        r.technique = std::string(peer.name);
+        r.contract = "peer";
+        r.map = map;
+        r.backend = std::string(peer.backend);
+        r.elevation = elevation;
+        r.mapSamples = m_mapSamples;
+        return r;
+    }
+
+    void runMesh(const std::string& map, float elevation, const Surface& surface, const Camera& camera) {
+        for (const PeerInfo& peer : peers()) {
+            if (peer.kind != PeerKind::Mesh) continue;
+            const PeerResult result = orFail(runMeshPeer(surface, camera, m_config.glFrames));
+            BenchRow r = peerRow(peer, map, elevation);
+            r.msPerFrame = 1000.0 * result.seconds;
+            r.mraysPerSecond = double(camera.width()) * camera.height() / result.seconds / 1e6;
+            m_rows.push_back(std::move(r));
+        }
+    }
+
+    void runEmbree(const std::string& map, float elevation, const Camera& camera, const EmbreePeer& embree,
+                   const Image<Hit>& reference) {
+        for (const PeerInfo& peer : peers()) {
+            if (peer.kind == PeerKind::Mesh) continue;
+            const PeerResult result = embree.run(peer.kind, camera, m_config.repeats);
+            BenchRow r = peerRow(peer, map, elevation);
+            r.stats = compareHits(result.hits, reference);
+            agreement(r, result.hits, reference, m_inBox);
+            r.mraysPerSecond = double(result.hits.pixels.size()) / result.seconds / 1e6;
+            r.msPerFrame = 1000.0 * result.seconds;
+            r.buildSeconds = embree.buildSeconds();
+            m_rows.push_back(std::move(r));
+        }
+    }
+
+    void writeResults() const {
+        const bool timings = !m_o.deterministic;
+        const nlohmann::json meta = {{"preset", m_o.preset}, {"threads", ThreadLimit::current()},
+                                     {"image_size", fmt::format("{}x{}", m_config.size.x, m_config.size.y)},
+                                     {"machine", cpuModelName()},
+                                     {"gl_device", m_glDevice},
+                                     {"date", timings ? todayUtc() : std::string("-")}};
+        writeFile("results.json", resultsJson(m_rows, meta, timings));
+        writeFile("results.csv", resultsCsv(m_rows, timings));
+        const auto [errorPlot, stepsPlot] = benchPlots(m_rows, m_config);
+        writeFile("error_vs_cap.svg", errorPlot);
+        writeFile("steps_vs_elevation.svg", stepsPlot);
+        BenchMeta report{m_o.preset, meta["machine"], meta["image_size"], meta["date"], m_glDevice,
+                         commandLine(m_o), "", "", ThreadLimit::current(), timings};
+        if (timings) {
+            report.loadBefore = m_loadBefore;
+            report.loadAfter = loadAverage();
+        }
+        writeFile("index.html", benchHtml(m_rows, m_config, report));
+        writeFile("report.md", benchMarkdown(m_rows, m_config, report, ""));
+        if (!m_o.markdownPath.empty()) writeMarkdownCopy(report);
+        if (!m_glDevice.empty()) std::cout << "GL: " << m_glDevice << "\n";
+        std::cout << fmt::format("\nwrote {0}/index.html, {0}/report.md, results.csv, results.json\n", m_o.outDir);
+    }
+
+    // The same report elsewhere (e.g. docs/benchmarks.md), its plot links rewritten to point
+    // into the output folder.
+    void writeMarkdownCopy(const BenchMeta& report) const {
+        const fs::path target = fs::absolute(m_o.markdownPath);
+        std::string prefix = fs::relative(fs::absolute(m_o.outDir), target.parent_path()).generic_string();
+        prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
+        orFail(writeTextFile(m_o.markdownPath, benchMarkdown(m_rows, m_config, report, prefix)));
+        std::cout << "wrote " << m_o.markdownPath << "\n";
+    }
+
+    void writeFile(const std::string& name, const std::string& text) const {
+        orFail(writeTextFile(m_o.outDir + "/" + name, text));
+    }
+
+    // --judge: rows with the exact contract agree with the reference, and so do the CPU peers on
+    // at least 99.9% of the rays of a view (same hit/miss, |Δt| <= 1e-3: Embree's watertight test
+    // and ours differ on grazing edges).
+    void judge() const {
+        for (const BenchRow& r : m_rows) {
+            const bool exact = r.contract == toString(Contract::Exact);
+            const bool cpuPeer = isPeer(r.technique) && r.backend == "cpu";
+            if ((exact && (r.stats.error.max > 1e-3 || r.stats.wrong > 0)) || (cpuPeer && r.agreeRate < 0.999))
+                throw Failure{makeError(ErrorKind::Runtime,
+                                        "--judge: {} on {} at elevation {:.1f} (cap {}) disagrees with {}: "
+                                        "{:.3f}% wrong pixels, {:.4f}% agree, max error {:.3g} texels",
+                                        r.technique, r.map, r.elevation, r.cap, referenceTechnique().name,
+                                        100 * r.stats.wrongRate(), 100 * r.agreeRate, r.stats.error.max)};
+        }
+        std::cout << "judge: every exact row and CPU peer agrees with " << referenceTechnique().name << "\n";
+    }
+
+    const RunOptions& m_o;
+    BenchConfig m_config;
+    std::vector<RowSpec> m_specs;
+    std::vector<Overrides> m_overrides;
+    std::vector<BenchRow> m_rows;
+    std::string m_glDevice, m_loadBefore;
+    std::vector<char> m_inBox;  // per pixel of the current view: its ray enters the box
+    int64_t m_mapSamples = 0;
+};
+
+}  // namespace
+
+std::string commandLine(const RunOptions& o) {
+    const BenchOverrides& v = o.overrides;
+    std::string s = "relief bench --preset " + o.preset;
+    for (const auto& [flag, value] : {std::pair{"-t", v.techniques}, {"--heightfields", v.maps}, {"--elevations", v.elevations},
+                                      {"--caps", v.caps}, {"--map-sizes", v.sizes}, {"--backend", v.backends},
+                                      {"--size", v.size}, {"--edge", v.edge}, {"--maps", o.mapsPath},
+                                      {"--visibility", o.visibility}})
+        if (!value.empty()) s += fmt::format(" {} {}", flag, value);
+    for (const std::string& p : o.params) s += " --param " + p;
+    for (const auto& [flag, value] : {std::pair{"--depth", v.depth}, {"--depth-ratio", v.depthRatio},
+                                      {"--azimuth", v.azimuth}, {"--distance", v.distance}})
+        if (value) s += fmt::format(" {} {}", flag, *value);
+    if (o.phiMax) s += fmt::format(" --phi-max {}", *o.phiMax);
+    if (v.smoke) s += " --smoke";
+    if (v.repeats) s += fmt::format(" --repeats {}", v.repeats);
+    if (o.threads) s += fmt::format(" --threads {}", o.threads);
+    return s;
+}
+
+std::string presetTable() {
+    std::string s;
+    for (const PresetEntry& p : presetList())
+        s += fmt::format("{:<16} {:<14} {}\n", p.name, p.owner.empty() ? "(bench)" : p.owner, p.description);
+    return s;
+}
+
+Status run(const RunOptions& o) {
+    try {
+        // Checked before the run, not after an hour of it.
+        if (!o.markdownPath.empty()) {
+            const fs::path folder = fs::absolute(o.markdownPath).parent_path();
+            if (!fs::is_directory(folder))
+                return makeError(ErrorKind::BadArgument, "--markdown {}: folder '{}' does not exist", o.markdownPath,
+                                 folder.string());
+        }
+        ThreadLimit limit(o.threads);
+        BenchConfig config = orFail(presetConfig(o.preset));
+        orFail(applyOverrides(config, o.overrides));
+        std::vector<RowSpec> rows;
+        for (const std::string& t : config.techniques) rows.push_back(orFail(parseRowSpec(t)));
+        std::vector<Overrides> overrides = orFail(globalOverrides(o, rows));
+        Runner(o, std::move(config), std::move(rows), std::move(overrides)).run();
+    } catch (const Failure& failure) {
+        return failure.error;
+    }
+    return {};
+}
+
+}  // namespace relief::bench

@@ -1,0 +1,51 @@
+#include <relief/bench/timing.h>
+
+#include <ctime>
+#include <fstream>
+
+namespace relief::bench {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double processCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+std::string cpuModelName() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown CPU";
+}
+
+std::string loadAverage() {
+    std::ifstream in("/proc/loadavg");
+    std::string one, five, fifteen;
+    in >> one >> five >> fifteen;
+    return one.empty() ? "unknown" : one + " " + five + " " + fifteen;
+}
+
+std::string todayUtc() {
+    const std::time_t now = std::time(nullptr);
+    char buffer[32];
+    std::strftime(buffer, sizeof buffer, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+    return buffer;
+}
+
+std::vector<size_t> packetOrder(int w, int h) {
+    std::vector<size_t> order;
+    order.reserve(size_t(w) * size_t(h));
+    for (int ty = 0; ty < h; ty += 16)
+        for (int tx = 0; tx < w; tx += 16)
+            for (int py = ty; py < ty + 16; py += 4)
+                for (int px = tx; px < tx + 16; px += 4)
+                    for (int y = py; y < py + 4; ++y)
+                        for (int x = px; x < px + 4; ++x) order.push_back(size_t(y) * size_t(w) + size_t(x));
+    return order;
+}
+
+}  // namespace relief::bench

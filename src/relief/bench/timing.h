@@ -1,0 +1,49 @@
+#pragma once
+// How the bench times and describes a run: best-of-N wall time, process CPU time, the load
+// average, the CPU model and the date, and the 4×4 packet order of Embree's rtcIntersect16.
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace relief::bench {
+
+double secondsSince(std::chrono::steady_clock::time_point start);
+// CPU seconds used by this process so far (all threads).
+double processCpuSeconds();
+
+// Best wall time of `repeats` (at least one) runs of fn: the machine is shared and noisy, the
+// best run is the one least disturbed.
+template <class Fn>
+double bestOf(int repeats, Fn&& fn) {
+    double best = 1e300;
+    for (int r = 0; r < (repeats < 1 ? 1 : repeats); ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        fn();
+        best = std::min(best, secondsSince(start));
+    }
+    return best;
+}
+
+// Wall and process CPU seconds of one run of fn.
+struct Elapsed {
+    double wall = 0, cpu = 0;
+};
+template <class Fn>
+Elapsed timeOnce(Fn&& fn) {
+    const double cpu = processCpuSeconds();
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    return {secondsSince(start), processCpuSeconds() - cpu};
+}
+
+std::string cpuModelName();   // "model name" from /proc/cpuinfo
+std::string loadAverage();    // the 1, 5 and 15 minute load averages
+std::string todayUtc();       // "YYYY-MM-DD HH:MM UTC"
+
+// Pixel indices in 4×4 packets inside 16×16 tiles (w and h multiples of 16): 16 consecutive rays
+// are one rtcIntersect16 packet, 256 one parallel work item.
+std::vector<size_t> packetOrder(int w, int h);
+
+}  // namespace relief::bench

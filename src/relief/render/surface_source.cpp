@@ -1,0 +1,71 @@
+#include <relief/render/surface_source.h>
+
+#include <relief/techniques/technique.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+
+namespace relief {
+
+Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
+    LoadOptions load;
+    load.invert = o.invert;
+    load.maxSamples = o.maxSamples;
+    if (!o.heightRange.empty()) {
+        double lo = 0, hi = 0;
+        if (std::sscanf(o.heightRange.c_str(), "%lf:%lf", &lo, &hi) != 2 || !(lo < hi) ||
+            !std::isfinite(lo) || !std::isfinite(hi))
+            return makeError(ErrorKind::BadArgument, "--height-range '{}': expected LO:HI with LO < HI",
+                             o.heightRange);
+        load.rangeLo = lo;
+        load.rangeHi = hi;
+    }
+    if (!o.raw.empty()) {
+        auto layout = parseRawLayout(o.raw);
+        if (!layout) return layout.error();
+        load.raw = *layout;
+    }
+    const std::pair<const char*, ChannelSelect> channels[] = {
+        {"luminance", ChannelSelect::Luminance}, {"r", ChannelSelect::Red},
+        {"g", ChannelSelect::Green}, {"b", ChannelSelect::Blue}, {"a", ChannelSelect::Alpha}};
+    for (auto& [name, value] : channels)
+        if (o.channel == name) load.channel = value;
+    auto hf = loadHeightfield(o.source, load);
+    if (!hf) return hf.error();
+    return std::make_shared<const Heightfield>(std::move(*hf));
+}
+
+Result<std::shared_ptr<const Surface>> makeSurface(const SurfaceOptions& o,
+                                                   std::shared_ptr<const Heightfield> hf) {
+    const float depth = o.depth ? *o.depth : o.depthRatio * float(std::max(hf->width, hf->height));
+    if (!std::isfinite(depth) || depth < 0.0f || depth > 1e6f)
+        return makeError(ErrorKind::BadArgument, "depth {} is out of range (0 to 1e6 texels)", depth);
+    if (!std::isfinite(o.depthRatio) || o.depthRatio < 0.0f)
+        return makeError(ErrorKind::BadArgument, "--depth-ratio {} must be >= 0", o.depthRatio);
+    if (o.edge != "clamp" && o.edge != "repeat")
+        return makeError(ErrorKind::BadArgument, "--edge '{}': clamp or repeat", o.edge);
+    const EdgeMode edge = o.edge == "repeat" ? EdgeMode::Repeat : EdgeMode::Clamp;
+    return std::make_shared<const Surface>(std::move(hf), depth, edge);
+}
+
+Result<std::shared_ptr<const MapFile>> loadCheckedMaps(const std::string& path, const Surface& surface) {
+    static std::mutex mutex;
+    static std::map<std::string, std::shared_ptr<const MapFile>> cache;
+    std::shared_ptr<const MapFile> file;
+    {
+        std::lock_guard lock(mutex);
+        auto it = cache.find(path);
+        if (it == cache.end()) {
+            auto read = readMapFile(path);
+            if (!read) return read.error();
+            it = cache.emplace(path, std::make_shared<const MapFile>(std::move(*read))).first;
+        }
+        file = it->second;
+    }
+    if (Status s = checkMapSource(path, file->source, mapSourceOf(surface)); !s) return s.error();
+    return file;
+}
+
+}  // namespace relief
