@@ -2,7 +2,7 @@
 // random and adversarial rays over all standard generators, both edge modes and odd sizes.
 // exact → same hit/miss and |Δt| ≤ 1e-3; conservative → never past the first hit (t ≤ t_ref +
 // 1e-4) and converged within 1e-3 at its default cap; approximate → statistics are recorded.
-#include <support/ray_sets.h>
+#include <support/contract_harness.h>
 
 #include <relief/core/generators.h>
 #include <relief/techniques/registry.h>
@@ -15,92 +15,18 @@
 namespace relief {
 namespace {
 
-struct MapCase {
-    const char* generator;
-    int width, height;
-    EdgeMode edge;
-};
-
-std::vector<MapCase> mapCases() {
-    std::vector<MapCase> cases;
-    for (const char* g : {"sine", "peaks6", "fbm", "walls", "spikes", "terraces", "ramp", "flat"})
-        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
-            cases.push_back({g, 37, 23, edge});
-            cases.push_back({g, 64, 64, edge});
-        }
-    return cases;
-}
-
-struct Tally {
-    size_t rays = 0, wrongHitMiss = 0, beyondTolerance = 0, pastFirstHit = 0;
-    double maxError = 0.0, sumError = 0.0;
-    size_t bothHit = 0;
-};
-
-void check(const TechniqueInfo& info, const Ray& ray, const Hit& h, const Hit& ref, Tally& tally) {
-    ++tally.rays;
-    if (h.hit && ref.hit) {
-        const double e = std::abs(double(h.t) - double(ref.t));
-        // Tolerances never below a few float ulps of t: with a very large depth (t in the
-        // thousands) no float tracer can do better; for t < ~200 they are the fixed ones.
-        const double ulps = 4.0 * std::numeric_limits<float>::epsilon() * std::abs(double(ref.t));
-        ++tally.bothHit;
-        tally.sumError += e;
-        tally.maxError = std::max(tally.maxError, e);
-        if (e > std::max(1e-3, ulps)) ++tally.beyondTolerance;
-        if (double(h.t) > double(ref.t) + std::max(1e-4, ulps)) ++tally.pastFirstHit;
-    } else if (h.hit != ref.hit) {
-        ++tally.wrongHitMiss;
-        if (h.hit && !ref.hit) ++tally.pastFirstHit;
-    }
-    if (h.hit) {
-        EXPECT_TRUE(std::isfinite(h.t) && h.t >= 0.0f) << info.name;
-        EXPECT_LT(glm::length(h.position - ray.at(h.t)), 1e-3f * std::max(1.0f, h.t)) << info.name;
-    }
-}
-
-// check, printing each ray on which an exact or conservative row breaks its contract (bit-exact
-// floats, so that the ray can be replayed and judged against the double-precision brute force).
-void checkAndReport(const TechniqueInfo& info, const Ray& ray, const Hit& h, const Hit& ref, Tally& tally) {
-    const Tally before = tally;
-    check(info, ray, h, ref, tally);
-    if (info.contract != Contract::Approximate &&
-        (tally.wrongHitMiss != before.wrongHitMiss || tally.pastFirstHit != before.pastFirstHit))
-        std::printf("  %s ray o=(%a, %a, %a) d=(%a, %a, %a): hit %d t %.9g, exact hit %d t %.9g\n",
-                    std::string(info.name).c_str(), ray.origin.x, ray.origin.y, ray.origin.z, ray.direction.x,
-                    ray.direction.y, ray.direction.z, h.hit, h.t, ref.hit, ref.t);
-}
+using testing::checkAndReport;
+using testing::Tally;
 
 class ContractTest : public ::testing::TestWithParam<std::string_view> {};
 
 TEST_P(ContractTest, AgainstExactReference) {
     const TechniqueInfo& info = *findTechnique(GetParam());
-    Tally tally;
-    uint32_t seed = 1;
-    for (const MapCase& c : mapCases()) {
-        auto hf = std::make_shared<const Heightfield>(
-            *generateHeightfield(c.generator, c.width, c.height, seed));
-        auto surface = std::make_shared<const Surface>(hf, 0.25f * float(c.width), c.edge);
-        auto tracer = createTracer(info.name, surface);
-        ASSERT_TRUE(tracer.ok()) << tracer.error().message;
-        auto exact = createTracer("exact", surface);
-        testing::RaySets sets(*surface, seed++);
-        const std::vector<Ray> rays = sets.all(1200);
-        std::vector<Hit> hits(rays.size()), reference(rays.size());
-        (*tracer)->traceBatch(rays, hits);
-        (*exact)->traceBatch(rays, reference);
-        const Tally before = tally;
-        for (size_t k = 0; k < rays.size(); ++k) checkAndReport(info, rays[k], hits[k], reference[k], tally);
-        if (info.contract != Contract::Approximate &&
-            (tally.wrongHitMiss != before.wrongHitMiss || tally.pastFirstHit != before.pastFirstHit))
-            ADD_FAILURE() << info.name << " broke its contract on " << c.generator << " " << c.width
-                          << "x" << c.height << " " << toString(c.edge);
-    }
-    std::printf("[ contract ] %-18s %-12s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
-                "past first hit %zu, mean |dt| %.3g, max |dt| %.3g\n",
-                std::string(info.name).c_str(), std::string(toString(info.contract)).c_str(),
-                tally.rays, tally.wrongHitMiss, tally.beyondTolerance, tally.pastFirstHit,
-                tally.bothHit ? tally.sumError / double(tally.bothHit) : 0.0, tally.maxError);
+    const testing::ContractRun run = testing::runContractHarness(info);
+    ASSERT_TRUE(run.error.empty()) << run.error;
+    for (const std::string& map : run.brokenOn)
+        ADD_FAILURE() << info.name << " broke its contract on " << map;
+    const Tally& tally = run.tally;
     EXPECT_GE(tally.rays, 100000u);
     switch (info.contract) {
         case Contract::Exact:
@@ -132,6 +58,52 @@ std::string techniqueTestName(const ::testing::TestParamInfo<std::string_view>& 
 
 INSTANTIATE_TEST_SUITE_P(Registry, ContractTest, ::testing::ValuesIn(allTechniqueNames()),
                          techniqueTestName);
+
+// Each named variant that promises something (exact, conservative) keeps its own contract on the
+// same rays (DESIGN §3: every variant declares one); the defaults are the test above.
+struct VariantCase {
+    std::string_view technique;
+    const VariantSpec* variant;
+};
+
+std::vector<VariantCase> promisingVariants() {
+    std::vector<VariantCase> cases;
+    for (const TechniqueInfo& info : techniques())
+        for (const VariantSpec& v : info.variants) {
+            const auto params = resolveParams(info, *parseParamList(v.params));
+            const bool isDefault = params && params->all() == resolveParams(info, {})->all();
+            if (v.contract != Contract::Approximate && !isDefault) cases.push_back({info.name, &v});
+        }
+    return cases;
+}
+
+void PrintTo(const VariantCase& c, std::ostream* out) {
+    *out << c.technique << " " << c.variant->label << " (" << c.variant->params << ")";
+}
+
+class VariantContractTest : public ::testing::TestWithParam<VariantCase> {};
+
+TEST_P(VariantContractTest, AgainstExactReference) {
+    const TechniqueInfo& info = *findTechnique(GetParam().technique);
+    const VariantSpec& variant = *GetParam().variant;
+    const testing::ContractRun run =
+        testing::runContractHarness(info, *parseParamList(variant.params), variant.clampOnly);
+    ASSERT_TRUE(run.error.empty()) << run.error;
+    EXPECT_EQ(run.contract, variant.contract);
+    for (const std::string& map : run.brokenOn)
+        ADD_FAILURE() << info.name << " " << variant.label << " broke its contract on " << map;
+    EXPECT_GE(run.tally.rays, 100000u);
+    EXPECT_TRUE(testing::keepsContract(run));
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, VariantContractTest, ::testing::ValuesIn(promisingVariants()),
+                         [](const ::testing::TestParamInfo<VariantCase>& p) {
+                             std::string name = std::string(p.param.technique) + "_" +
+                                                std::string(p.param.variant->label);
+                             for (char& c : name)
+                                 if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                             return name;
+                         });
 
 TEST(Registry, EveryRowIsComplete) {
     for (const TechniqueInfo& info : techniques()) {
@@ -214,7 +186,8 @@ TEST_P(EdgeCaseTest, DegenerateMapsAndRays) {
             (*tracer)->traceBatch(rays, hits);
             (*exact)->traceBatch(rays, reference);
             const Tally before = tally;
-            for (size_t k = 0; k < rays.size(); ++k) checkAndReport(info, rays[k], hits[k], reference[k], tally);
+            for (size_t k = 0; k < rays.size(); ++k)
+                checkAndReport(info, info.contract, rays[k], hits[k], reference[k], tally);
             if (info.contract != Contract::Approximate)
                 EXPECT_TRUE(tally.wrongHitMiss == before.wrongHitMiss && tally.pastFirstHit == before.pastFirstHit &&
                             tally.beyondTolerance == before.beyondTolerance)

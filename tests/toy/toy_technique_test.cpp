@@ -3,6 +3,8 @@
 // linked into the relief program would be.
 #include "toy_technique.h"
 
+#include <support/contract_harness.h>
+
 #include <relief/cli/common.h>
 #include <relief/techniques/registry.h>
 
@@ -19,10 +21,22 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The same tracer claiming a promise it cannot keep: the harness must catch it.
+const TechniqueInfo kOverclaimingRow = [] {
+    TechniqueInfo row = toy::kMarchRow;
+    row.name = "toy-march-claims-exact";
+    row.contract = Contract::Exact;
+    return row;
+}();
+
 const bool kRegistered = [] {
-    const Status status = registerTechnique(toy::kMarchRow);
-    if (!status) std::fprintf(stderr, "%s\n", status.error().message.c_str());
-    return status.ok();
+    bool ok = true;
+    for (const TechniqueInfo* row : {&toy::kMarchRow, &kOverclaimingRow}) {
+        const Status status = registerTechnique(*row);
+        if (!status) std::fprintf(stderr, "%s\n", status.error().message.c_str());
+        ok = ok && status.ok();
+    }
+    return ok;
 }();
 
 class ToyTechnique : public ::testing::Test {
@@ -77,6 +91,30 @@ TEST_F(ToyTechnique, CliServesIt) {
     // Its parameters are checked like any row's.
     EXPECT_EQ(relief("trace gen:peaks6:32x32 -t toy-march --param step=9 --rays {tmp}/rays.csv"), 1);
     EXPECT_EQ(relief("trace gen:peaks6:32x32 -t toy-march --phi-max 30 --rays {tmp}/rays.csv"), 1);
+}
+
+TEST_F(ToyTechnique, ContractHarnessServesIt) {
+    const testing::ContractRun run = testing::runContractHarness(*findTechnique("toy-march"));
+    ASSERT_TRUE(run.error.empty()) << run.error;
+    EXPECT_EQ(run.contract, Contract::Approximate);
+    EXPECT_GE(run.tally.rays, 100000u);
+    EXPECT_TRUE(testing::keepsContract(run));
+    EXPECT_LT(run.tally.sumError / double(run.tally.bothHit), 1.0) << "a reasonable march";
+    // Claimed exact, the same tracer is caught on some map (thin spikes, grazing rays).
+    const testing::ContractRun claimed =
+        testing::runContractHarness(*findTechnique("toy-march-claims-exact"));
+    EXPECT_EQ(claimed.contract, Contract::Exact);
+    EXPECT_FALSE(testing::keepsContract(claimed));
+    EXPECT_FALSE(claimed.brokenOn.empty());
+}
+
+TEST_F(ToyTechnique, BenchServesIt) {
+    EXPECT_EQ(relief("bench --preset quick -t toy-march,toy-march:step=1,exact --deterministic "
+                     "--no-images --threads 2 --out-dir {tmp}/bench"), 0);
+    const std::string csv = read("bench/results.csv");
+    EXPECT_NE(csv.find("\ntoy-march,approximate,"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("\ntoy-march:step=1,approximate,"), std::string::npos) << csv;
+    EXPECT_NE(read("bench/report.md").find("toy-march"), std::string::npos);
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ constexpr VariantSpec kRelaxedConeVariants[] = {
 constexpr VariantSpec kSafetyVariants[] = {
     {"view-dependent", "view-dependent=1", Contract::Approximate, "S linear between test positions (§7)"},
     {"positive-distance", "positive-distance=1", Contract::Approximate, "distances clamped to >= 1 (§7)"},
-    {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)"},
+    {"exterior", "exterior=1", Contract::Exact, "maps for exterior rays only (§6.2)", true},
 };
 
 // `exact` on the sphere: the sphere's reference (DESIGN §6).

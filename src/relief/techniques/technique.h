@@ -53,6 +53,7 @@ struct VariantSpec {
     std::string_view params;  // NAME=VALUE[,NAME=VALUE...]
     Contract contract;
     std::string_view summary;
+    bool clampOnly = false;  // exists in clamp mode only (e.g. exterior rays: a finite box)
 };
 
 // A parameter set that takes the tracer down another path (an encoding, a policy, a variant):
