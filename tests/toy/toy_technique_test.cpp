@@ -117,5 +117,17 @@ TEST_F(ToyTechnique, BenchServesIt) {
     EXPECT_NE(read("bench/report.md").find("toy-march"), std::string::npos);
 }
 
+// docs/architecture.md describes every folder of the library and the walk-through this test is.
+TEST(Architecture, DocumentNamesEveryFolder) {
+    std::ifstream in(fs::path(RELIEF_SOURCE_DIR) / "docs/architecture.md");
+    const std::string doc{std::istreambuf_iterator<char>(in), {}};
+    ASSERT_FALSE(doc.empty());
+    for (const auto& entry : fs::directory_iterator(fs::path(RELIEF_SOURCE_DIR) / "src/relief"))
+        if (entry.is_directory())
+            EXPECT_NE(doc.find("| `" + entry.path().filename().string() + "/` |"), std::string::npos)
+                << entry.path().filename() << " is not in the folder table";
+    EXPECT_NE(doc.find("tests/toy/"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace relief
