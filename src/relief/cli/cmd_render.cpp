@@ -214,6 +214,9 @@ Status checkDrawable(const RenderOptions& o, const TechniqueInfo& info,
     if ((curves || sphere) && o.technique.backend != "cpu")
         return makeError(ErrorKind::Unsupported, "{}: --backend {}: {} runs on the CPU only",
                          info.name, o.technique.backend, what);
+    if (curves && !sphere && o.surface.edge != "clamp")
+        return makeError(ErrorKind::Unsupported, "{}: --edge {}: {} needs a finite region "
+                         "(--edge clamp)", info.name, o.surface.edge, what);
     if ((curves || sphere) && o.shadows)
         return makeError(ErrorKind::Unsupported, "{}: --shadows: {} traces no shadow rays",
                          info.name, what);
@@ -296,7 +299,7 @@ TechniqueRun planeRun(const TechniqueInfo& info, const Surface& surface, const C
 
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
-    const std::vector<std::string> names = techniqueList(o.technique.name);
+    std::vector<std::string> names = techniqueList(o.technique.name);
     const bool many = names.size() > 1;
     const bool sphere = o.baseSurface == "sphere";
     if (many && o.outDir.empty())
@@ -313,7 +316,19 @@ void runRender(const RenderOptions& o) {
     std::vector<const TechniqueInfo*> infos;
     for (const std::string& name : names) infos.push_back(orFail(lookupTechnique(name)));
     // Options and parameters a row lacks are left out for it (an error when no row has them).
-    const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
+    std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
+    // `-t all` draws the rows that can honour every option and names the others; a row asked for
+    // by name that cannot is an error.
+    if (o.technique.name == "all") {
+        for (size_t k = infos.size(); k-- > 0;) {
+            const Status drawable = checkDrawable(o, *infos[k], overrides[k]);
+            if (drawable || drawable.error().kind != ErrorKind::Unsupported) continue;
+            std::fprintf(stderr, "relief: note: -t all: skipping %s\n", drawable.error().message.c_str());
+            infos.erase(infos.begin() + std::ptrdiff_t(k));
+            overrides.erase(overrides.begin() + std::ptrdiff_t(k));
+            names.erase(names.begin() + std::ptrdiff_t(k));
+        }
+    }
     std::vector<ParamValues> params;
     bool readsMaps = false;
     for (size_t k = 0; k < infos.size(); ++k) {
