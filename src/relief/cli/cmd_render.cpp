@@ -108,7 +108,7 @@ void printCurvesTable(const RenderOptions& o, const std::vector<TechniqueRun>& r
                 "| technique | samples/px | epsilon | curves | inside | extra | advance | reverse | "
                 "cuts | walls | capped | evals/sample | empty px |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-                o.baseSurface == "sphere" ? "sphere" : "exact");
+                o.baseSurface == "sphere" ? "sphere" : referenceTechnique().name);
         any = true;
         const curves::StepCounts& c = r.curves->counts;
         out << fmt::format("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.2f} | {} "

@@ -7,6 +7,7 @@
 #include <relief/render/camera.h>
 #include <relief/render/surface_source.h>
 #include <relief/surface/surface.h>
+#include <relief/techniques/registry.h>
 #include <relief/techniques/technique.h>
 
 #include <CLI/CLI.hpp>
@@ -19,7 +20,7 @@ namespace relief::cli {
 
 
 struct TechniqueOptions {
-    std::string name = "exact";
+    std::string name{referenceTechnique().name};  // the default row: the reference
     std::optional<int> maxSteps;       // the parameter with role IterationCap
     std::optional<double> phiMax;      // ... role PhiMax (degrees)
     std::string visibility;            // ... role Visibility: "all" (0) or "exterior" (1)

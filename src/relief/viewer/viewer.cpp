@@ -162,7 +162,7 @@ class Viewer {
     const Tracer* exactTracer() {
         if (m_state.overlay != Overlay::Error) return nullptr;
         if (!m_exact) {
-            const TechniqueInfo& exact = *findTechnique("exact");
+            const TechniqueInfo& exact = referenceTechnique();
             auto tracer = m_options.makeTracer(exact, defaultParams(exact));
             if (!tracer) {
                 m_status = "error overlay: " + tracer.error().message;
