@@ -146,7 +146,6 @@ const CliCase kRoleCases[] = {
     // -t all draws what can honour the options and names the rest; a named row is refused.
     {"all skips what cannot shadow", "render gen:peaks6:24x24 -t all --shadows --size 16x16 --out-dir {tmp}/allsh --deterministic", 0, "| safety-cc | exact |", "skipping curves: --shadows"},
     {"all skips what cannot tile", "render gen:peaks6:24x24 -t all --edge repeat --size 16x16 --out-dir {tmp}/allrep --deterministic", 0, "| exact | exact |", "skipping curves: --edge repeat"},
-    {"curves cannot tile", "render gen:peaks6:24x24 -t curves --edge repeat --size 16x16 -o {tmp}/c.png", 5, "", "needs a finite region"},
     {"max-steps without a cap", "trace gen:fbm:24x24 -t parallax --max-steps 3 --rays {tmp}/rays.csv", 1, "", "technique 'parallax' has no iteration cap parameter"},
 };
 
