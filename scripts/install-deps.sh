@@ -3,7 +3,7 @@
 # already installed are skipped, so a second run does not touch apt at all.
 set -euo pipefail
 packages=(
-    g++ cmake ninja-build pkg-config
+    g++ cmake ninja-build pkg-config python3
     libembree-dev libtbb-dev libglm-dev libstb-dev libpng-dev libjpeg-dev libopenexr-dev
     libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
     libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
