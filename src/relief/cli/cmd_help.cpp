@@ -30,9 +30,17 @@ void addHelpCommand(CLI::App& app) {
             std::cout << fmt::format("  {:<18} {:<13} {}\n", info.name, toString(info.contract),
                                      info.summary);
             for (const ParamSpec& p : info.params)
-                std::cout << fmt::format("  {:<18}   --param {}={} ({})\n", "", p.name,
-                                         p.defaultValue, p.help);
+                std::cout << fmt::format("  {:<18}   --param {}={} [{} to {}, {}] ({})\n", "",
+                                         p.name, p.defaultValue, p.minValue, p.maxValue,
+                                         toString(p.role), p.help);
+            for (const VariantSpec& v : info.variants)
+                std::cout << fmt::format("  {:<18}   variant {} ({}): {}, {}{}\n", "", v.label,
+                                         v.params, toString(v.contract), v.summary,
+                                         v.clampOnly ? " (clamp mode only)" : "");
         }
+        std::cout << "\nA variant is its own row in relief bench: -t NAME:PARAM=V[:PARAM=V].\n"
+                     "An exact row with its iteration cap set (N > 0 where 0 means none) is "
+                     "approximate.\n";
         std::cout << "\nExit codes: 0 ok, 1 bad arguments, 2 I/O, 3 invalid input, 4 runtime/GL, "
                      "5 unsupported.\n";
     });
