@@ -3,6 +3,7 @@
 // HTML report renders in headless Chromium with every image loaded and no console error.
 #include <relief/io/heightfield_io.h>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -188,6 +189,47 @@ TEST(BenchCommand, BuildsStudyRecordsMaps) {
     EXPECT_NE(report.find("## Map builds"), std::string::npos);
     fs::remove_all(out);
     fs::remove(out.string() + ".log");
+}
+
+// curves-table1 draws the curves rows with the visibility-curve renderer, as `relief render`
+// does: the same Table 1 counts for the same scene, in the JSON, the CSV and the report, with the
+// reference traced on every sample's ray.
+TEST(BenchCommand, CurvesStudyWritesTable1LikeRender) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_curves_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("--preset curves-table1 --smoke", out), 0) << readText(out.string() + ".log");
+    const fs::path summary = out.string() + "-render.json";
+    size_t curvesRows = 0;
+    for (const auto& row : resultRows(out)) {
+        if (row.at("backend") != "cpu" || row.at("contract") == "peer") continue;
+        ++curvesRows;
+        EXPECT_GT(row.at("visibility_curves").get<int64_t>(), 0);
+        EXPECT_EQ(row.at("total_samples").get<int64_t>(),
+                  row.at("inside_samples").get<int64_t>() + row.at("extra_samples").get<int64_t>());
+        EXPECT_GT(row.at("reference_cells_per_ray").get<double>(), 0.0);
+        const std::string technique = row.at("technique");
+        const std::string epsilon = technique.substr(technique.find('=') + 1);
+        const std::string render = std::string(RELIEF_CLI_PATH) + " render gen:sine:64x64 -t curves --param epsilon=" +
+                                   epsilon + " --elevation " + fmt::format("{}", row.at("elevation").get<double>()) +
+                                   " --size 32x32 --format json --deterministic --out-dir " + out.string() +
+                                   "-render > " + summary.string() + " 2>/dev/null";
+        ASSERT_EQ(std::system(render.c_str()), 0) << render;
+        std::ifstream in(summary);
+        const nlohmann::json rendered = nlohmann::json::parse(in).at(0);
+        for (const char* count : {"visibility_curves", "inside_samples", "extra_samples", "advance_steps",
+                                  "reverse_steps", "binary_cuts", "wall_hits"})
+            EXPECT_EQ(row.at(count), rendered.at(count)) << technique << " " << count;
+        EXPECT_DOUBLE_EQ(row.at("error_mean").get<double>(), rendered.at("error_mean").get<double>()) << technique;
+    }
+    EXPECT_EQ(curvesRows, 2u);  // ε = 0.25 and 0.001, one view
+    std::ifstream csv(out / "results.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_NE(header.find(",visibility_curves,inside_samples,"), std::string::npos) << header;
+    EXPECT_NE(readText(out / "report.md").find("## Visibility curves (Table 1)"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+    fs::remove(summary);
+    fs::remove_all(out.string() + "-render");
 }
 
 TEST(BenchCommand, RejectsBadOptions) {

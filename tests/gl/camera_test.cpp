@@ -103,6 +103,43 @@ TEST(GlCamera, OneCameraTracerTimesAndTraces) {
     }
 }
 
+// setParams changes the parameters (here the iteration cap, a uniform) of a compiled camera
+// tracer: its frames are those of a tracer created with them; another surface is refused.
+TEST(GlCamera, SetParamsMatchesAFreshTracer) {
+    RELIEF_REQUIRE_GL();
+    auto surface = testing::generatedSurface("peaks6", 48, 40, 0.15f, EdgeMode::Clamp, 7);
+    const TechniqueInfo& info = *findTechnique("cone");
+    const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap);
+    ASSERT_NE(cap, nullptr);
+    auto inputWithCap = [&](int value) {
+        auto params = resolveParams(info, {{std::string(cap->name), double(value)}});
+        EXPECT_TRUE(params) << params.error().message;
+        return TechniqueInput{surface, params ? *params : ParamValues{}};
+    };
+    const GlCamera camera = gl::cameraUniforms(Camera(OrbitView{27.8f, 30.0f, 1.0f, 45.0f}, *surface, 48, 32));
+    auto tracer = createGlCameraTracer(info, inputWithCap(2));
+    ASSERT_TRUE(tracer) << tracer.error().message;
+    auto capped = (*tracer)->traceFrame(camera);
+    ASSERT_TRUE(capped) << capped.error().message;
+    ASSERT_TRUE((*tracer)->setParams(inputWithCap(64)));
+    auto frame = (*tracer)->traceFrame(camera);
+    ASSERT_TRUE(frame) << frame.error().message;
+    auto fresh = traceGlCamera(info, inputWithCap(64), camera);
+    ASSERT_TRUE(fresh) << fresh.error().message;
+    ASSERT_EQ(frame->size(), fresh->size());
+    size_t changed = 0;
+    for (size_t k = 0; k < frame->size(); ++k) {
+        ASSERT_EQ((*frame)[k].hit, (*fresh)[k].hit) << k;
+        ASSERT_EQ((*frame)[k].t, (*fresh)[k].t) << k;
+        ASSERT_EQ((*frame)[k].steps, (*fresh)[k].steps) << k;
+        changed += (*frame)[k].steps != (*capped)[k].steps;
+    }
+    EXPECT_GT(changed, 0u);  // the cap took effect
+    TechniqueInput other = inputWithCap(64);
+    other.surface = testing::generatedSurface("peaks6", 48, 40, 0.15f, EdgeMode::Clamp, 8);
+    EXPECT_FALSE((*tracer)->setParams(other));
+}
+
 // DESIGN §8 GPU time: ms per 640×480 frame for every GLSL technique and the mesh. Disabled in CI;
 // run with --gtest_also_run_disabled_tests (RELIEF_GL_TIMING_SIZE=N sets the peaks6 N×N map).
 TEST(GlCamera, DISABLED_Timing640x480) {

@@ -88,6 +88,7 @@ BenchConfig fromStudy(const StudySpec& s) {
     c.peerTable = s.peerTable;
     c.compare = std::string(s.compare);
     c.paperNotes = std::string(s.paperNotes);
+    c.imageMethod = s.imageMethod;
     for (const PaperRatioSpec& r : s.paperRatios)
         c.paperRatios.push_back({std::string(r.what), std::string(r.paper), std::string(r.numeratorTechnique),
                                  std::string(r.numeratorMap), std::string(r.denominatorTechnique),

@@ -43,6 +43,7 @@ struct BenchConfig {
     std::string compare;     // "A/B": two rows side by side by elevation and cap (cap 0 = default)
     std::string paperNotes;  // the paper's claims, shown beside ours
     std::vector<PaperRatio> paperRatios;
+    bool imageMethod = false;  // rows with an image method of their own (curves) are drawn with it
 };
 
 // Command-line overrides of a preset; empty strings / unset values keep the preset's.

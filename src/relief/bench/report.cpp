@@ -349,6 +349,54 @@ std::vector<Table> compareTables(const std::vector<BenchRow>& rows, const BenchC
     return tables;
 }
 
+bool hasCurves(const std::vector<BenchRow>& rows) {
+    return std::any_of(rows.begin(), rows.end(), [](const BenchRow& r) { return r.curves.has_value(); });
+}
+
+// The visibility-curve rows as the paper's Table 1: one column per row and view, one line per
+// counter, then the reference on the same sample rays and the per-sample error.
+Table curvesTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+    Table t{"Visibility curves (Table 1)",
+            fmt::format("Rows drawn by the visibility-curve renderer (as `relief render` draws them); {} traced on the "
+                        "very same sample rays; errors per sample.", referenceName())};
+    std::vector<const BenchRow*> curves;
+    for (const BenchRow& r : rows)
+        if (r.curves) curves.push_back(&r);
+    t.header = {"quantity"};
+    for (const BenchRow* r : curves)
+        t.header.push_back(fmt::format("{} {} e={:.1f}{}", r->technique, r->map, r->elevation,
+                                       r->cap > 0 ? fmt::format(" cap {}", r->cap) : ""));
+    auto line = [&](const std::string& label, auto get) {
+        std::vector<std::string> cells{label};
+        for (const BenchRow* r : curves) cells.push_back(get(*r, *r->curves));
+        t.rows.push_back(std::move(cells));
+    };
+    auto count = [&](const char* label, int64_t curves::StepCounts::*field) {
+        line(label, [&](const BenchRow&, const CurvesFigures& c) { return fmt::format("{}", c.counts.*field); });
+    };
+    count("visibility curves", &curves::StepCounts::curves);
+    count("inside samples", &curves::StepCounts::insideSamples);
+    count("extra samples", &curves::StepCounts::extraSamples);
+    line("total samples", [](const BenchRow&, const CurvesFigures& c) { return fmt::format("{}", c.counts.samples()); });
+    count("advance steps", &curves::StepCounts::advanceSteps);
+    count("reverse steps", &curves::StepCounts::reverseSteps);
+    count("binary cuts", &curves::StepCounts::binaryCuts);
+    count("wall hits (leading edge)", &curves::StepCounts::wallHits);
+    line("curves evaluations / sample", [](const BenchRow&, const CurvesFigures& c) {
+        return fmt::format("{:.2f}", double(c.counts.evaluations()) / double(std::max<int64_t>(1, c.counts.samples())));
+    });
+    line(referenceName() + " cells / ray",
+         [](const BenchRow&, const CurvesFigures& c) { return fmt::format("{:.2f}", c.referenceCellsPerRay); });
+    if (meta.timings) {
+        line("curves Msamples/s", [](const BenchRow&, const CurvesFigures& c) { return fmt::format("{:.2f}", c.msamplesPerSecond); });
+        line(referenceName() + " Mrays/s (same rays)",
+             [](const BenchRow&, const CurvesFigures& c) { return fmt::format("{:.2f}", c.referenceMraysPerSecond); });
+    }
+    line("mean abs dt (texels)", [](const BenchRow& r, const CurvesFigures&) { return fmt::format("{:.3g}", r.stats.error.mean); });
+    line("wrong samples", [](const BenchRow& r, const CurvesFigures&) { return fmt::format("{:.3f}%", 100.0 * r.stats.wrongRate()); });
+    return t;
+}
+
 std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
     if (config.kind == StudyKind::Builds) return {buildsTable(rows, meta)};
     std::vector<Table> tables = {summaryTable(rows, config, meta)};
@@ -357,6 +405,8 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     if (config.kind == StudyKind::Scaling)
         for (Table& t : scalingTables(rows, config)) tables.push_back(std::move(t));
     if (config.peerTable) tables.push_back(viewTable(rows, meta));
+    if (hasCurves(rows))
+        tables.push_back(curvesTable(rows, meta));
     if (!config.compare.empty())
         for (Table& t : compareTables(rows, config, meta)) tables.push_back(std::move(t));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
@@ -479,6 +529,19 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
         j["build_seconds"] = r.buildSeconds;
         j["build_cpu_seconds"] = r.buildCpuSeconds;
     }
+    if (r.curves) {
+        const curves::StepCounts& c = r.curves->counts;
+        j.update({{"visibility_curves", c.curves}, {"inside_samples", c.insideSamples},
+                  {"extra_samples", c.extraSamples}, {"total_samples", c.samples()},
+                  {"advance_steps", c.advanceSteps}, {"reverse_steps", c.reverseSteps},
+                  {"binary_cuts", c.binaryCuts}, {"wall_hits", c.wallHits},
+                  {"capped_samples", c.cappedSamples},
+                  {"reference_cells_per_ray", r.curves->referenceCellsPerRay}});
+        if (timings) {
+            j["msamples_per_s"] = r.curves->msamplesPerSecond;
+            j["reference_mrays_per_s"] = r.curves->referenceMraysPerSecond;
+        }
+    }
     return j;
 }
 
@@ -493,14 +556,21 @@ std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
         "error_mean", "error_p95", "error_max", "wrong_rate", "steps_mean", "steps_max", "fetches_mean",
         "fetches_max", "mrays_per_s", "ms_per_frame", "build_seconds", "bytes_per_texel", "build_cpu_seconds",
         "agree_rate", "box_steps_mean", "box_steps_p99", "map_samples"};
+    // The visibility-curve rows' columns, only in runs that have such rows (empty for the others).
+    static const char* const kCurvesColumns[] = {"visibility_curves", "inside_samples", "extra_samples",
+        "total_samples", "advance_steps", "reverse_steps", "binary_cuts", "wall_hits", "capped_samples",
+        "reference_cells_per_ray", "msamples_per_s", "reference_mrays_per_s"};
+    std::vector<const char*> columns(std::begin(kColumns), std::end(kColumns));
+    if (hasCurves(rows))
+        columns.insert(columns.end(), std::begin(kCurvesColumns), std::end(kCurvesColumns));
     std::string csv;
-    for (const char* c : kColumns) csv += std::string(c == kColumns[0] ? "" : ",") + c;
+    for (const char* c : columns) csv += std::string(c == columns[0] ? "" : ",") + c;
     csv += "\n";
     for (const BenchRow& r : rows) {
         const nlohmann::json row = rowJson(r, timings);
-        for (const char* c : kColumns) {
+        for (const char* c : columns) {
             const auto it = row.find(c);
-            csv += c == kColumns[0] ? "" : ",";
+            csv += c == columns[0] ? "" : ",";
             if (it == row.end()) continue;
             csv += it->is_string() ? it->get<std::string>() : it->dump();
         }

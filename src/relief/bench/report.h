@@ -6,13 +6,24 @@
 // SVG plots.
 #include <relief/bench/presets.h>
 #include <relief/render/compare.h>
+#include <relief/techniques/common/curve_stepper.h>
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace relief::bench {
+
+// A row drawn by the visibility-curve renderer (BenchConfig::imageMethod): the paper's Table 1
+// counters, and the reference traced on the very same sample rays. Its stats are per sample.
+struct CurvesFigures {
+    curves::StepCounts counts;
+    double referenceCellsPerRay = 0;  // mean steps of the reference on the sample rays
+    double msamplesPerSecond = 0;     // every sample, extra ones included
+    double referenceMraysPerSecond = 0;
+};
 
 struct BenchRow {
     std::string technique;  // the row's label: NAME[:P=V...], or a peer's name
@@ -25,6 +36,7 @@ struct BenchRow {
     int64_t mapSamples = 0;
     double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, buildCpuSeconds = 0, bytesPerTexel = 0;
     std::string images;  // file prefix relative to the output folder, empty if none
+    std::optional<CurvesFigures> curves;
 };
 
 struct BenchMeta {

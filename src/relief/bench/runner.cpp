@@ -9,6 +9,7 @@
 #include <relief/gl/gl_tracer.h>
 #include <relief/io/image_write.h>
 #include <relief/render/compare.h>
+#include <relief/render/curves/curves_image.h>
 #include <relief/render/renderer.h>
 #include <relief/render/surface_source.h>
 #include <relief/techniques/registry.h>
@@ -155,6 +156,8 @@ struct PreparedRow {
     Elapsed build;
     double bytesPerTexel = 0;
     std::map<int, std::pair<std::unique_ptr<Tracer>, double>> cpu;  // per cap: tracer, create seconds
+    // Uploaded and compiled once, for every view and cap (the cap is a uniform: setParams).
+    std::unique_ptr<GlCameraTracer> gl;
 
     Overrides at(int cap) const {
         Overrides o = overrides;
@@ -271,10 +274,11 @@ private:
             for (PreparedRow& row : rows) {
                 const std::vector<int> caps = capsOf(*row.spec->info);
                 for (int cap : caps) {
-                    if (wants("cpu")) {
-                        const bool images = !m_o.noImages && cap == caps.back();
+                    const bool images = !m_o.noImages && cap == caps.back();
+                    if (wants("cpu") && drawsCurves(*row.spec->info))
+                        runCurves(row, label, elevation, cap, surface, view, images);
+                    else if (wants("cpu"))
                         runCpu(row, label, elevation, cap, surface, camera, referenceHits, images);
-                    }
                     if (wants("gl") && !row.spec->info->glsl.empty())
                         runGl(row, label, elevation, cap, inputAt(row, surface, cap), camera, referenceHits);
                 }
@@ -286,6 +290,51 @@ private:
 
     bool wants(const std::string& backend) const {
         return std::find(m_config.backends.begin(), m_config.backends.end(), backend) != m_config.backends.end();
+    }
+
+    // Rows with an image method of their own, in a preset that asks for it (BenchConfig::imageMethod).
+    bool drawsCurves(const TechniqueInfo& info) const {
+        return m_config.imageMethod && info.image == ImageMethod::VisibilityCurves;
+    }
+
+    // The visibility-curve renderer as `relief render` runs it (render/curves/curves_image.h): every
+    // sample measured against the reference on its own ray, the reference timed on those rays.
+    void runCurves(const PreparedRow& row, const std::string& map, float elevation, int cap,
+                   std::shared_ptr<const Surface> surface, const OrbitView& view, bool images) {
+        const TechniqueInfo& info = *row.spec->info;
+        const ParamValues params = orFail(resolveParams(info, row.at(cap)));
+        const curves::CurvesScene scene{surface, nullptr, view, m_config.size.x, m_config.size.y, Shading{}};
+        const curves::CurvesOptions options = curves::curvesOptions(info, params);
+        curves::CurvesRun run;
+        double seconds = 1e300, referenceSeconds = 1e300;
+        for (int k = 0; k < std::max(1, m_config.repeats); ++k) {
+            run = orFail(curves::renderAndMeasure(scene, options));
+            seconds = std::min(seconds, run.result.seconds);
+            referenceSeconds = std::min(referenceSeconds, run.referenceSeconds);
+        }
+        BenchRow r = newRow(row, map, "cpu", elevation, cap, params);
+        r.stats = run.stats;
+        Image<Hit> hits(int(run.result.samples.size()), 1);
+        for (size_t k = 0; k < run.result.samples.size(); ++k) hits.pixels[k] = run.result.samples[k].hit;
+        agreement(r, hits, run.reference, std::vector<char>(hits.pixels.size(), 1));
+        CurvesFigures figures{run.result.counts};
+        double cells = 0;
+        for (const Hit& hit : run.reference.pixels) cells += hit.steps;
+        const double rays = double(std::max<size_t>(1, run.reference.pixels.size()));
+        figures.referenceCellsPerRay = cells / rays;
+        figures.msamplesPerSecond = 1e-6 * double(figures.counts.samples()) / seconds;
+        figures.referenceMraysPerSecond = 1e-6 * rays / referenceSeconds;
+        r.curves = figures;
+        r.mraysPerSecond = figures.msamplesPerSecond;
+        r.msPerFrame = 1000.0 * seconds;
+        if (images) {
+            r.images = fmt::format("images/{}_{}_e{:.1f}", slug(map), slug(r.technique), elevation);
+            const std::string base = m_o.outDir + "/" + r.images;
+            orFail(writePng(base + ".png", run.result.color));
+            orFail(writePng(base + "-steps.png", curves::stepsImage(run, r.technique + " evaluations/sample")));
+            orFail(writePng(base + "-error.png", curves::errorImage(run, r.technique + " |t-t_ref|")));
+        }
+        m_rows.push_back(std::move(r));
     }
 
     void runCpu(PreparedRow& row, const std::string& map, float elevation, int cap,
@@ -314,14 +363,17 @@ private:
     }
 
     // GPU rows: rays made on the GPU from the camera, ms per frame with glFinish (DESIGN §8);
-    // accuracy from one frame read back and compared with the reference on the same rays.
-    void runGl(const PreparedRow& row, const std::string& map, float elevation, int cap, const TechniqueInput& input,
+    // accuracy from one frame read back and compared with the reference on the same rays. The
+    // row's program is compiled once per heightfield; each cap only sets its uniforms.
+    void runGl(PreparedRow& row, const std::string& map, float elevation, int cap, const TechniqueInput& input,
                const Camera& camera, const Image<Hit>& reference) {
         const TechniqueInfo& info = *row.spec->info;
+        if (!row.gl) row.gl = orFail(createGlCameraTracer(info, input));
+        else orFail(row.gl->setParams(input));
         const gl::CameraUniforms uniforms = gl::cameraUniforms(camera);
-        const GlFrameTiming timing = orFail(timeGlFrame(info, input, uniforms, {m_config.glFrames, 2}));
+        const GlFrameTiming timing = orFail(row.gl->timeFrames(uniforms, {m_config.glFrames, 2}));
         Image<Hit> hits(camera.width(), camera.height());
-        hits.pixels = orFail(traceGlCamera(info, input, uniforms));
+        hits.pixels = orFail(row.gl->traceFrame(uniforms));
         BenchRow r = newRow(row, map, "gl", elevation, cap, input.params);
         r.stats = compareHits(hits, reference);
         agreement(r, hits, reference, m_inBox);

@@ -193,6 +193,18 @@ public:
         return hits;
     }
 
+    Status setParams(const TechniqueInput& input) override {
+        if (input.surface != m_surface)
+            return makeError(ErrorKind::BadArgument, "GL backend: setParams of '{}' with another surface",
+                             m_info->name);
+        if (m_info->check)
+            if (Status status = m_info->check(input); !status) return status.error();
+        auto uniforms = traceUniforms(*m_info, input.params);
+        if (!uniforms) return uniforms.error();
+        m_traceUniforms = *uniforms;
+        return {};
+    }
+
 private:
     GlTracer() = default;
 

@@ -71,6 +71,9 @@ public:
     // One frame read back: camera.width × camera.height hits, row 0 at the top; pixel (px, py)
     // is the ray gl::cameraRay(camera, px, py).
     virtual Result<std::vector<Hit>> traceFrame(const GlCamera& camera) = 0;
+    // Other parameters (e.g. an iteration cap) for the same surface and maps: they are uniforms
+    // (TraceUniforms::params), so nothing is uploaded or compiled again. Checked as at creation.
+    virtual Status setParams(const TechniqueInput& input) = 0;
 };
 
 // Checks and maps as createGlTracer.

@@ -195,10 +195,17 @@ constexpr StudySpec kQuadtreeStudies[] = {
 constexpr std::string_view kCurvesPaperMaps[] = {"gen:sine:512x512"};
 constexpr std::string_view kCurvesPaperRows[] = {"curves", "exact"};
 constexpr float kCurvesPaperElevations[] = {20.0f, 60.0f};
+// Table 1 and its cost beside the reference on the same sample rays (docs/curves.md).
+constexpr std::string_view kCurvesTable1Rows[] = {"curves:epsilon=0.25", "curves:epsilon=0.001"};
+constexpr float kCurvesTable1Elevations[] = {65.1f, 15.3f};  // unslanted, slanted
 constexpr StudySpec kCurvesStudies[] = {
     {.name = "curves-paper", .description = "visibility curves Table 1",
      .maps = kCurvesPaperMaps, .techniques = kCurvesPaperRows, .elevations = kCurvesPaperElevations,
-     .paperNotes = "Geometric displacement on plane and sphere, Table 1 (sine map, 2 samples per pixel)."},
+     .paperNotes = "Geometric displacement on plane and sphere, Table 1 (sine map, 2 samples per pixel).",
+     .imageMethod = true},
+    {.name = "curves-table1", .description = "visibility-curve renderer: Table 1 counts and cost vs exact on the same samples (was bench_curves)",
+     .maps = kCurvesPaperMaps, .techniques = kCurvesTable1Rows, .elevations = kCurvesTable1Elevations,
+     .width = 640, .height = 480, .distance = 1.2f, .imageMethod = true},
 };
 
 // exact against Embree on the same triangles and rays (docs/benchmarks-exact-embree.md).

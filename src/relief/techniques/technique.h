@@ -96,6 +96,7 @@ struct StudySpec {
     std::string_view compare;  // "A/B" (row labels): the report adds A-vs-B tables by view and cap
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
+    bool imageMethod = false;  // rows draw with their own TechniqueInfo::image, not one ray per pixel
 };
 
 // How the renderer draws a row's image.
