@@ -29,8 +29,7 @@ fi
 start=$SECONDS
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_COMPILER=clang \
     -DCMAKE_CXX_COMPILER=clang++ -DRELIEF_FUZZ=ON >/dev/null
-# What ctest and the fuzz smoke runs need (the bench is part of relief; the bench_curves
-# executable is not worth sanitizing).
+# What ctest and the fuzz smoke runs need (the bench is part of relief).
 targets=(relief relief_tests relief_gl_tests relief_toy_tests)
 for seeds in "$root"/fuzz/corpus/*/; do targets+=("fuzz_$(basename "$seeds")"); done
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
