@@ -25,6 +25,7 @@
 //   texels, which would not be conservative); rays enter through any face (Surface::clip).
 #include <relief/surface/cell_cursor.h>
 #include <relief/techniques/common/cone_maps.h>
+#include <relief/techniques/common/safe_step_march.h>
 
 namespace relief {
 
@@ -55,41 +56,21 @@ private:
 };
 
 inline Hit ConeTracer::trace(const Ray& ray) const {
-    const Surface& s = *m_surface;
-    Hit hit;
-    const RayInterval span = s.clip(ray);
-    if (span.empty()) return hit;
     const vec3& d = ray.direction;
-    const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
-    float t = span.tEnter;
-    while (hit.steps < m_limits.maxSteps) {
-        ++hit.steps;
-        const vec3 p = ray.at(t);
+    const auto coneSafeStep = [&](const vec3& p, float horizontal, Hit& hit) {
         const vec2 cone = m_map->at(p.x, p.y);
         ++hit.fetches;
         // On the floor (z ≤ 0) the cell test decides: a ray entering from below meets the solid
         // there even where a = 0 (depth 0, or a flat floor), which a cone step would skip.
-        if (p.z >= cone.x && p.z > 0.0f) {
-            const float dt = coneStep(p.z, cone.x, cone.y, horizontal, d.z);
-            if (dt >= m_limits.stall) {
-                if (t + dt >= span.tExit)  // leaves the box without meeting S inside it
-                    return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit)
-                                                                 : hit;
-                t += dt;
-                continue;
-            }
-        }
-        // Exact: the cell the ray is in, up to where it leaves it.
-        const CellSpan cell = cellAt(s, ray, t, span.tExit);
-        hit.fetches += 4;
-        const float th = firstHitInCell(s.cellPlanes(cell.ci, cell.cj), ray, cell.ci, cell.cj, t,
-                                        cell.tb);
-        if (th <= cell.tb) return hitAt(ray, th, hit);
-        if (cell.tb >= span.tExit)
-            return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit) : hit;
-        t = cell.tb;
-    }
-    return hitAt(ray, t, hit);  // capped: the last position, never past the first hit
+        return p.z >= cone.x && p.z > 0.0f ? coneStep(p.z, cone.x, cone.y, horizontal, d.z)
+                                           : -kInfinity;
+    };
+    // Exact: the cell the ray is in, up to where it leaves it.
+    const auto wholeCell = [](const CellSpan& cell, float t, const RayInterval&) {
+        return CellRangeAlong{t, cell.tb, cell.tb};
+    };
+    return safeStepMarch(*m_surface, ray, {m_limits.maxSteps, m_limits.stall}, coneSafeStep,
+                         wholeCell);
 }
 
 inline constexpr ParamSpec kConeParams[] = {

@@ -38,6 +38,7 @@
 //   height-ratio · max(S); no texture filtering; rays enter through any face.
 #include <relief/surface/cell_cursor.h>
 #include <relief/techniques/common/cone_maps.h>
+#include <relief/techniques/common/safe_step_march.h>
 #include <relief/techniques/qdm/qdm_map.h>
 
 namespace relief {
@@ -104,41 +105,22 @@ private:
 };
 
 inline Hit QdmTracer::trace(const Ray& ray) const {
-    const Surface& s = *m_surface;
-    Hit hit;
-    const RayInterval span = s.clip(ray);
-    if (span.empty()) return hit;
     const vec3& d = ray.direction;
-    const float horizontal = std::sqrt(d.x * d.x + d.y * d.y);
-    float t = span.tEnter;
-    while (hit.steps < m_limits.maxSteps) {
-        ++hit.steps;
-        const vec3 p = ray.at(t);
+    const auto quadricSafeStep = [&](const vec3& p, float horizontal, Hit& hit) {
         const QdmTexel q = m_map->at(p.x, p.y);
         ++hit.fetches;
-        if (p.z > q.h) {  // on the apex height the ray may touch S: the cell test decides
-            const float dt = (1.0f - m_limits.shorten) *
-                             quadricStep(q, p.z, horizontal, d.z, m_map->reach(q));
-            if (dt >= m_limits.stall) {
-                if (t + dt >= span.tExit)  // leaves the box without meeting S inside it
-                    return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit)
-                                                                 : hit;
-                t += dt;
-                continue;
-            }
-        }
-        // Exact: the cell the ray is in, from where it entered it to where it leaves it.
-        const CellSpan cell = cellAt(s, ray, t, span.tExit);
+        // On the apex height the ray may touch S: the cell test decides.
+        return p.z > q.h ? (1.0f - m_limits.shorten) *
+                               quadricStep(q, p.z, horizontal, d.z, m_map->reach(q))
+                         : -kInfinity;
+    };
+    // Exact: the cell the ray is in, from where it entered it to where it leaves it.
+    const auto referenceCell = [&](const CellSpan& cell, float t, const RayInterval& span) {
         const vec2 cellSpan = referenceSpan(ray, cell.ci, cell.cj, span);
-        hit.fetches += 4;
-        const float th = firstHitInCell(s.cellPlanes(cell.ci, cell.cj), ray, cell.ci, cell.cj,
-                                        cellSpan.x, cellSpan.y);
-        if (th <= cellSpan.y) return hitAt(ray, th, hit);
-        if (cellSpan.y >= span.tExit)
-            return exitsThroughFloor(s, ray, span.tExit) ? hitAt(ray, span.tExit, hit) : hit;
-        t = cellSpan.y > t ? cellSpan.y : cell.tb;
-    }
-    return hitAt(ray, t, hit);  // capped: the last position, never past the first hit
+        return CellRangeAlong{cellSpan.x, cellSpan.y, cellSpan.y > t ? cellSpan.y : cell.tb};
+    };
+    return safeStepMarch(*m_surface, ray, {m_limits.maxSteps, m_limits.stall}, quadricSafeStep,
+                         referenceCell);
 }
 
 inline constexpr ParamSpec kQdmParams[] = {
