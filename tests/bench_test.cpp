@@ -182,7 +182,10 @@ TEST(BenchCommand, BuildsStudyRecordsMaps) {
     const fs::path out = fs::temp_directory_path() / ("relief_bench_builds_" + std::to_string(::getpid()));
     ASSERT_EQ(runBench("--preset cones-builds --map-sizes 32,64", out), 0);
     const auto rows = resultRows(out);
-    ASSERT_EQ(rows.size(), 6u);  // three builders × two sizes
+    ASSERT_EQ(rows.size(), 12u);  // three builders × two sizes × (fbm, the SRTM window)
+    size_t srtm = 0;
+    for (const auto& row : rows) srtm += row.at("map") == "earth-srtm-10800x5400@64x64 centre 7980+1860";
+    EXPECT_EQ(srtm, 3u);
     for (const auto& row : rows) EXPECT_GT(row.at("bytes_per_texel").get<double>(), 0.0) << row.at("technique");
     std::ifstream md(out / "report.md");
     const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
@@ -230,6 +233,52 @@ TEST(BenchCommand, CurvesStudyWritesTable1LikeRender) {
     fs::remove(out.string() + ".log");
     fs::remove(summary);
     fs::remove_all(out.string() + "-render");
+}
+
+// A row's TechniqueInfo::mapSummary: extra columns of the builds table, results.csv and .json
+// (safety rows: the mean safety distance; exterior-ray maps drop limiting triangles, so their
+// distances are never shorter).
+TEST(BenchCommand, BuildsStudyWritesMapSummaries) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_summary_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("--preset safety-exterior-builds --map-sizes 32 -t safety-sd,safety-sd:exterior=1,cone", out), 0);
+    std::map<std::string, double> meanR;
+    for (const auto& row : resultRows(out))
+        if (row.contains("mean_r")) meanR[row.at("technique")] = row.at("mean_r").get<double>();
+    ASSERT_EQ(meanR.size(), 2u);  // not cone: it has no map summary
+    EXPECT_GT(meanR["safety-sd"], 0.0);
+    EXPECT_GE(meanR["safety-sd:exterior=1"], meanR["safety-sd"]);
+    std::ifstream csv(out / "results.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_NE(header.find(",mean_r"), std::string::npos) << header;
+    std::ifstream md(out / "report.md");
+    const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("| bytes/texel | mean r |"), std::string::npos) << report;
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
+}
+
+// A Scaling study plots steps against map size: a curve per row over the maps swept by size (the
+// map taken once is no curve), mean steps without the reference, p99 with it.
+TEST(BenchCommand, ScalingStudyPlotsStepsAgainstMapSize) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_scaling_" + std::to_string(::getpid()));
+    ASSERT_EQ(runBench("--preset quadtree-scaling --map-sizes 16,32,48 --size 16x16 --elevations 15.3 "
+                       "-t quadtree,exact --heightfields gen:fbm:{N}x{N}:1,gen:peaks6:24x24",
+                       out), 0);
+    std::ifstream in(out / "steps_vs_map_size.svg");
+    const std::string svg((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    size_t lines = 0;
+    for (size_t at = 0; (at = svg.find("<polyline", at)) != std::string::npos; ++at) ++lines;
+    EXPECT_EQ(lines, 3u) << svg;  // mean: quadtree; p99: quadtree, exact
+    size_t points = 0;
+    for (size_t at = 0; (at = svg.find("<circle", at)) != std::string::npos; ++at) ++points;
+    EXPECT_EQ(points, 9u);  // three sizes each
+    EXPECT_NE(svg.find("Mean steps per ray, 15.3°"), std::string::npos);
+    std::ifstream md(out / "report.md");
+    const std::string report((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find("(steps_vs_map_size.svg)"), std::string::npos);
+    fs::remove_all(out);
+    fs::remove(out.string() + ".log");
 }
 
 TEST(BenchCommand, RejectsBadOptions) {

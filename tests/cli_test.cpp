@@ -153,6 +153,31 @@ TEST_F(Cli, RoleOptions) {
     for (const CliCase& c : kRoleCases) run(c);
 }
 
+// A source's window (SOURCE@crop=X,Y,W,H) is a source like any other in every command.
+const CliCase kCropCases[] = {
+    {"crop info", "info gen:fbm:40x30@crop=2,3,16,8", 0, "16x8 samples", ""},
+    {"crop info renormalized", "info gen:fbm:40x30@crop=2,3,16,8 --format json", 0, "\"max\": 1.0", ""},
+    {"crop real map", "info {src}/data/earth-topology-2048x1024.png@crop=900,0,64,32", 0, "64x32 samples", ""},
+    {"crop trace", "trace gen:peaks6:48x48@crop=8,8,32,32 --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"crop render", "render gen:peaks6:48x48@crop=8,8,32,32 --size 32x24 -o {tmp}/crop.png --deterministic", 0, "| exact | exact |", ""},
+    {"crop bake", "bake gen:fbm:48x48@crop=4,4,24,24 --maps cone -o {tmp}/crop.exr --deterministic", 0, "wrote", ""},
+    {"crop baked maps", "trace gen:fbm:48x48@crop=4,4,24,24 -t cone --maps {tmp}/crop.exr --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"crop other window stale", "trace gen:fbm:48x48@crop=5,4,24,24 -t cone --maps {tmp}/crop.exr --rays {tmp}/rays.csv", 3, "", "stale maps"},
+    {"crop bench", "bench --preset quick --heightfields gen:fbm:48x48:1@crop=4,4,32,32,gen:walls:40x40 -t exact --smoke --no-images --out-dir {tmp}/bcrop --deterministic", 0, "results.csv", ""},
+    {"centre crop info", "info gen:fbm:40x30@centre=38,2,16,8", 0, "16x8 samples", ""},
+    {"centre crop too large", "info gen:fbm:40x30@centre=20,15,41,8", 3, "", "crop 41x8 around (20, 15) is not inside the 40x30 map"},
+    {"crop outside", "info gen:fbm:40x30@crop=30,0,16,8", 3, "", "crop 16x8 at (30, 0) is not inside the 40x30 map"},
+    {"crop negative corner", "info gen:fbm:40x30@crop=-1,0,16,8", 3, "", "not inside"},
+    {"crop empty", "info gen:fbm:40x30@crop=0,0,0,8", 3, "", "not inside"},
+    {"crop too few numbers", "info gen:fbm:40x30@crop=1,2,3", 1, "", "FILE@crop=X,Y,W,H"},
+    {"crop not a number", "info gen:fbm:40x30@crop=1,2,w,4", 1, "", "FILE@crop=X,Y,W,H"},
+    {"crop of a missing file", "info {tmp}/does-not-exist.png@crop=0,0,4,4", 2, "", "does-not-exist.png"},
+};
+
+TEST_F(Cli, CropSources) {
+    for (const CliCase& c : kCropCases) run(c);
+}
+
 TEST_F(Cli, FailedRenderLeavesNoPartialOutput) {
     // An unreadable colour map fails after the render; nothing may be left in the folder.
     const fs::path dir = tmp / "atomic";

@@ -126,9 +126,28 @@ std::vector<std::string> split(const std::string& text, char separator) {
     return parts;
 }
 
+bool hasWindow(const std::string& source) {
+    return source.find("@crop=") != std::string::npos || source.find("@centre=") != std::string::npos;
+}
+
+// --heightfields: comma-separated sources, where the commas of a suffix @crop=X,Y,W,H (or
+// @centre=) stay in it.
+std::vector<std::string> splitSources(const std::string& text) {
+    std::vector<std::string> sources;
+    for (const std::string& part : split(text, ',')) {
+        const bool inCrop = !sources.empty() && hasWindow(sources.back()) &&
+                            std::count(sources.back().begin(), sources.back().end(), ',') < 3;
+        if (inCrop)
+            sources.back() += "," + part;
+        else
+            sources.push_back(part);
+    }
+    return sources;
+}
+
 // gen:NAME:WxH[:seed] → gen:NAME:64x64.
 std::string smokeMap(const std::string& map) {
-    if (map.rfind("gen:", 0) != 0) return map;
+    if (map.rfind("gen:", 0) != 0 || hasWindow(map)) return map;  // a window needs its size
     std::vector<std::string> parts = split(map, ':');
     return "gen:" + parts[1] + ":64x64";
 }
@@ -186,7 +205,7 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
         for (const std::string& t : c.techniques)
             if (auto row = parseRowSpec(t); !row) return row.error();
     }
-    if (!o.maps.empty()) c.maps = split(o.maps, ',');
+    if (!o.maps.empty()) c.maps = splitSources(o.maps);
     if (!o.elevations.empty()) {
         auto v = parseList<float>(o.elevations, "--elevations");
         if (!v) return v.error();

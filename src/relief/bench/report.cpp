@@ -10,6 +10,7 @@
 #include <map>
 #include <algorithm>
 #include <optional>
+#include <regex>
 #include <tuple>
 #include <set>
 
@@ -177,6 +178,22 @@ Table allRowsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     return t;
 }
 
+// The names of the rows' map statistics (TechniqueInfo::mapSummary), in first-seen order: extra
+// columns of the builds table and of results.csv.
+std::vector<std::string> mapSummaryNames(const std::vector<BenchRow>& rows) {
+    std::vector<std::string> names;
+    for (const BenchRow& r : rows)
+        for (const auto& [name, value] : r.mapSummary)
+            if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    return names;
+}
+
+std::string mapSummaryCell(const BenchRow& r, const std::string& name) {
+    for (const auto& [n, value] : r.mapSummary)
+        if (n == name) return fmt::format("{:.3g}", value);
+    return "-";
+}
+
 // Builds studies: one row per technique and map size, no views.
 Table buildsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     Table t{"Map builds", "Map build per technique and map size: wall and process CPU seconds (all threads), "
@@ -184,11 +201,18 @@ Table buildsTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     t.header = {"technique", "map"};
     if (meta.timings) t.header.insert(t.header.end(), {"wall s", "CPU s"});
     t.header.push_back("bytes/texel");
+    const std::vector<std::string> summaries = mapSummaryNames(rows);
+    if (!summaries.empty()) t.caption += " Then the statistics each row reports of its maps.";
+    for (std::string name : summaries) {
+        std::replace(name.begin(), name.end(), '_', ' ');  // mean_r → "mean r", as docs/safety.md
+        t.header.push_back(name);
+    }
     for (const BenchRow& r : rows) {
         std::vector<std::string> line = {r.technique, r.map};
         if (meta.timings)
             line.insert(line.end(), {fmt::format("{:.3f}", r.buildSeconds), fmt::format("{:.3f}", r.buildCpuSeconds)});
         line.push_back(fmt::format("{:.1f}", r.bytesPerTexel));
+        for (const std::string& name : summaries) line.push_back(mapSummaryCell(r, name));
         t.rows.push_back(std::move(line));
     }
     return t;
@@ -523,6 +547,7 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
                         {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},
                         {"fetches_mean", r.stats.fetches.mean}, {"fetches_max", r.stats.fetches.max},
                         {"bytes_per_texel", r.bytesPerTexel}, {"images", r.images}};
+    for (const auto& [name, value] : r.mapSummary) j[name] = value;
     if (timings) {
         j["mrays_per_s"] = r.mraysPerSecond;
         j["ms_per_frame"] = r.msPerFrame;
@@ -565,6 +590,8 @@ std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
         columns.insert(columns.end(), std::begin(kCurvesColumns), std::end(kCurvesColumns));
     std::string csv;
     for (const char* c : columns) csv += std::string(c == columns[0] ? "" : ",") + c;
+    const std::vector<std::string> summaries = mapSummaryNames(rows);
+    for (const std::string& name : summaries) csv += "," + name;
     csv += "\n";
     for (const BenchRow& r : rows) {
         const nlohmann::json row = rowJson(r, timings);
@@ -574,6 +601,7 @@ std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings) {
             if (it == row.end()) continue;
             csv += it->is_string() ? it->get<std::string>() : it->dump();
         }
+        for (const std::string& name : summaries) csv += "," + (row.contains(name) ? row[name].dump() : "");
         csv += "\n";
     }
     return csv;
@@ -611,6 +639,55 @@ std::pair<std::string, std::string> benchPlots(const std::vector<BenchRow>& rows
                         series(stepsSum))};
 }
 
+std::string scalingPlot(const std::vector<BenchRow>& rows, const BenchConfig& config) {
+    if (config.elevations.empty()) return "";
+    const float elevation = *std::min_element(config.elevations.begin(), config.elevations.end());
+    // A map's family is its label with the size taken out (fbm:256x256:1 → fbm:N:1); a family
+    // with one map (a file taken once) is no curve.
+    const std::regex size("[0-9]+x[0-9]+");
+    std::map<std::string, std::set<std::string>> familyMaps;
+    std::vector<const BenchRow*> selected;
+    for (const BenchRow* r : atLargestCap(rows))
+        if (r->backend == "cpu" && !isPeer(r->technique) && r->elevation == elevation && r->mapSamples > 0) {
+            selected.push_back(r);
+            familyMaps[std::regex_replace(r->map, size, "N")].insert(r->map);
+        }
+    std::erase_if(familyMaps, [](const auto& f) { return f.second.size() < 2; });
+    struct Curve {
+        std::string label;
+        bool reference = false;
+        std::vector<std::tuple<double, double, double>> points;  // log2 p, mean, p99
+    };
+    std::vector<Curve> curves;
+    for (const BenchRow* r : selected) {
+        const std::string family = std::regex_replace(r->map, size, "N");
+        if (!familyMaps.count(family)) continue;
+        const std::string label = r->technique + (familyMaps.size() > 1 ? " (" + family + ")" : "");
+        auto it = std::find_if(curves.begin(), curves.end(), [&](const Curve& c) { return c.label == label; });
+        if (it == curves.end()) it = curves.insert(curves.end(), {label, r->technique == referenceName(), {}});
+        it->points.emplace_back(std::log2(double(r->mapSamples)), r->boxSteps.mean, r->boxSteps.p99);
+    }
+    // The reference last, so that the other rows keep their colours from one panel to the other.
+    std::stable_partition(curves.begin(), curves.end(), [](const Curve& c) { return !c.reference; });
+    std::vector<PlotSeries> means, p99s;
+    for (Curve& c : curves) {
+        std::sort(c.points.begin(), c.points.end());  // by size, whatever order the maps ran in
+        PlotSeries mean{c.label, {}, {}}, p99{c.label, {}, {}};
+        for (const auto& [x, m, p] : c.points) {
+            mean.x.push_back(x);
+            mean.y.push_back(m);
+            p99.x.push_back(x);
+            p99.y.push_back(p);
+        }
+        if (!c.reference) means.push_back(std::move(mean));  // its steps would flatten the others
+        p99s.push_back(std::move(p99));
+    }
+    const std::string x = "log2 p (p = map samples)";
+    return svgSideBySide({{{fmt::format("Mean steps per ray, {:.1f}°", elevation), x, "mean steps", false, false}, means},
+                          {{fmt::format("99th percentile of steps per ray, {:.1f}°", elevation), x, "p99 steps", false, true},
+                           p99s}});
+}
+
 std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta,
                           const std::string& assetPrefix) {
     std::string s = fmt::format("# relief bench: {}\n\nGenerated by `{}`. {}\n\n", meta.preset, meta.commandLine,
@@ -619,6 +696,7 @@ std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& 
         s += fmt::format("## {}\n\n{}\n\n{}\n", t.title, t.caption, markdownTable(t));
     s += fmt::format("## Plots\n\n![error vs cap]({0}error_vs_cap.svg)\n![steps vs elevation]({0}steps_vs_elevation.svg)\n\n",
                      assetPrefix);
+    if (config.kind == StudyKind::Scaling) s += fmt::format("![steps vs map size]({}{})\n\n", assetPrefix, kScalingPlotName);
     const Table all = allRowsTable(rows, meta);
     s += fmt::format("## {}\n\n<details><summary>{} rows</summary>\n\n{}\n</details>\n", all.title, all.rows.size(),
                      markdownTable(all));

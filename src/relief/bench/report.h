@@ -37,6 +37,7 @@ struct BenchRow {
     double mraysPerSecond = 0, msPerFrame = 0, buildSeconds = 0, buildCpuSeconds = 0, bytesPerTexel = 0;
     std::string images;  // file prefix relative to the output folder, empty if none
     std::optional<CurvesFigures> curves;
+    std::vector<std::pair<std::string, double>> mapSummary;  // the row's TechniqueInfo::mapSummary of its maps
 };
 
 struct BenchMeta {
@@ -64,6 +65,11 @@ std::string resultsJson(const std::vector<BenchRow>& rows, const nlohmann::json&
 std::string resultsCsv(const std::vector<BenchRow>& rows, bool timings);
 // error_vs_cap.svg and steps_vs_elevation.svg, in that order.
 std::pair<std::string, std::string> benchPlots(const std::vector<BenchRow>& rows, const BenchConfig& config);
+// A Scaling study's steps_vs_map_size.svg: at the lowest elevation, mean steps per ray of every
+// row but the reference (left) and the 99th percentile of every row (right, log scale) against
+// log2 of the map's samples, over the maps the study sweeps by size.
+inline constexpr const char* kScalingPlotName = "steps_vs_map_size.svg";
+std::string scalingPlot(const std::vector<BenchRow>& rows, const BenchConfig& config);
 
 // `assetPrefix` is prepended to the plot file names (the report may live in another folder).
 std::string benchMarkdown(const std::vector<BenchRow>& rows, const BenchConfig& config,

@@ -74,14 +74,25 @@ size_t mapBytes(const TechniqueMaps& maps) {
     return bytes;
 }
 
+// A crop keeps its window in the label, as WxH+X+Y or "WxH centre X+Y" (no commas: the label is
+// a CSV field): two windows of one file are two maps.
 std::string mapLabel(const std::string& source) {
-    return source.rfind("gen:", 0) == 0 ? source.substr(4) : fs::path(source).stem().string();
+    auto spec = parseSourceSpec(source);
+    const std::string base = spec ? spec->base : source;
+    std::string label = base.rfind("gen:", 0) == 0 ? base.substr(4) : fs::path(base).stem().string();
+    if (spec && spec->crop)
+        label += fmt::format(fmt::runtime(spec->crop->centred ? "@{}x{} centre {}+{}" : "@{}x{}+{}+{}"),
+                             spec->crop->width, spec->crop->height, spec->crop->x, spec->crop->y);
+    return label;
 }
 
 std::string resolveDataPath(const std::string& source) {
-    if (source.rfind("gen:", 0) == 0 || fs::path(source).is_absolute()) return source;
+    auto spec = parseSourceSpec(source);
+    if (!spec) return source;  // the loader reports the syntax
+    const std::string& file = spec->base;
+    if (file.rfind("gen:", 0) == 0 || fs::path(file).is_absolute()) return source;
     for (const std::string& base : {std::string("."), std::string(RELIEF_SOURCE_DIR)})
-        if (fs::exists(base + "/" + source)) return base + "/" + source;
+        if (fs::exists(base + "/" + file)) return base + "/" + file + spec->suffix;
     return source;
 }
 
@@ -254,6 +265,7 @@ private:
             if (!row.maps) continue;
             const ParamValues params = orFail(resolveParams(*row.spec->info, row.overrides));
             m_rows.push_back(newRow(row, map, "cpu", 0.0f, 0, params));
+            if (auto summary = row.spec->info->mapSummary) m_rows.back().mapSummary = summary(*row.maps);
         }
         progress.advance();
     }
@@ -432,6 +444,7 @@ private:
         const auto [errorPlot, stepsPlot] = benchPlots(m_rows, m_config);
         writeFile("error_vs_cap.svg", errorPlot);
         writeFile("steps_vs_elevation.svg", stepsPlot);
+        if (m_config.kind == StudyKind::Scaling) writeFile(kScalingPlotName, scalingPlot(m_rows, m_config));
         BenchMeta report{m_o.preset, meta["machine"], meta["image_size"], meta["date"], m_glDevice,
                          commandLine(m_o), "", "", ThreadLimit::current(), timings};
         if (timings) {

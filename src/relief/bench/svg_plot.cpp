@@ -96,4 +96,17 @@ std::string svgLinePlot(const PlotSpec& spec, const std::vector<PlotSeries>& ser
     return svg + "</svg>\n";
 }
 
+std::string svgSideBySide(const std::vector<std::pair<PlotSpec, std::vector<PlotSeries>>>& panels) {
+    int width = 0, height = 0;
+    std::string inner;
+    for (const auto& [spec, series] : panels) {
+        // A nested <svg> placed at x = the panels before it.
+        inner += fmt::format("<svg x=\"{}\"", width) + svgLinePlot(spec, series).substr(4);
+        width += spec.width;
+        height = std::max(height, spec.height);
+    }
+    return fmt::format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{}\">\n", width, height) +
+           inner + "</svg>\n";
+}
+
 }  // namespace relief::bench

@@ -19,4 +19,7 @@ struct PlotSpec {
 // Non-positive values are skipped on log axes.
 std::string svgLinePlot(const PlotSpec& spec, const std::vector<PlotSeries>& series);
 
+// Plots from svgLinePlot side by side in one SVG, left to right.
+std::string svgSideBySide(const std::vector<std::pair<PlotSpec, std::vector<PlotSeries>>>& panels);
+
 }  // namespace relief::bench

@@ -21,7 +21,7 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_option("--visibility", o->visibility, "maps for all rays or exterior rays only (rows that have it)")
         ->check(CLI::IsMember({"all", "exterior"}));
     cmd->add_option("--phi-max", o->phiMax, "viewing-angle restriction in degrees (rows that have it)");
-    cmd->add_option("--heightfields", v.maps, "heightfields, comma-separated (files or gen:NAME:WxH)");
+    cmd->add_option("--heightfields", v.maps, "heightfields, comma-separated (files or gen:NAME:WxH, each may end in @crop= or @centre=X,Y,W,H)");
     cmd->add_option("--depth", v.depth, "relief depth D in texels (overrides --depth-ratio)");
     cmd->add_option("--depth-ratio", v.depthRatio, "relief depth as a fraction of max(W,H)");
     cmd->add_option("--edge", v.edge, "edge mode")->check(CLI::IsMember({"clamp", "repeat"}));

@@ -14,7 +14,9 @@ namespace relief::cli {
 
 void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
     app.add_option("heightfield", o.source,
-                   "height map file (PNG, JPEG, EXR, PFM, raw) or gen:NAME:WxH[:seed]")
+                   "height map file (PNG, JPEG, EXR, PFM, raw) or gen:NAME:WxH[:seed]; a suffix "
+                   "@crop=X,Y,W,H takes the W×H window at corner X,Y (@centre=X,Y,W,H: centred on "
+                   "X,Y, moved inside the map), heights renormalized to [0,1] over it")
         ->required();
     app.add_option("--depth", o.depth, "relief depth D in texels (overrides --depth-ratio)");
     app.add_option("--depth-ratio", o.depthRatio, "relief depth as a fraction of max(W,H)")

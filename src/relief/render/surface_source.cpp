@@ -2,6 +2,7 @@
 
 #include <relief/techniques/technique.h>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -9,7 +10,32 @@
 
 namespace relief {
 
+Result<SourceSpec> parseSourceSpec(const std::string& source) {
+    SourceSpec spec;
+    const size_t crop = source.rfind("@crop="), centre = source.rfind("@centre=");
+    const bool centred = centre != std::string::npos && (crop == std::string::npos || centre > crop);
+    const size_t at = centred ? centre : crop;
+    spec.base = source.substr(0, at);
+    if (at == std::string::npos) return spec;
+    spec.suffix = source.substr(at);
+    int values[4] = {};
+    const char* p = source.data() + source.find('=', at) + 1;
+    const char* end = source.data() + source.size();
+    for (int k = 0; k < 4; ++k) {
+        auto [next, ec] = std::from_chars(p, end, values[k]);
+        const bool ok = ec == std::errc() && (k < 3 ? next != end && *next == ',' : next == end);
+        if (!ok)
+            return makeError(ErrorKind::BadArgument, "'{}': expected FILE@crop=X,Y,W,H (corner and size) or "
+                             "FILE@centre=X,Y,W,H, integers", source);
+        p = next + 1;
+    }
+    spec.crop = CropWindow{values[0], values[1], values[2], values[3], centred};
+    return spec;
+}
+
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
+    auto spec = parseSourceSpec(o.source);
+    if (!spec) return spec.error();
     LoadOptions load;
     load.invert = o.invert;
     load.maxSamples = o.maxSamples;
@@ -32,7 +58,9 @@ Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions&
         {"g", ChannelSelect::Green}, {"b", ChannelSelect::Blue}, {"a", ChannelSelect::Alpha}};
     for (auto& [name, value] : channels)
         if (o.channel == name) load.channel = value;
-    auto hf = loadHeightfield(o.source, load);
+    auto hf = loadHeightfield(spec->base, load);
+    if (!hf) return hf.error();
+    if (spec->crop) hf = cropHeightfield(*hf, *spec->crop, o.source);
     if (!hf) return hf.error();
     return std::make_shared<const Heightfield>(std::move(*hf));
 }

@@ -1,7 +1,9 @@
 #pragma once
-// A surface from a source string (a file or gen:NAME:WxH) and the DESIGN §3 surface options, and
-// baked maps checked against it: the one path that the CLI commands and the bench share.
+// A surface from a source string (a file or gen:NAME:WxH, optionally @crop=X,Y,W,H) and the
+// DESIGN §3 surface options, and baked maps checked against it: the one path that the CLI
+// commands and the bench share.
 #include <relief/core/error.h>
+#include <relief/io/heightfield_crop.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
@@ -11,6 +13,17 @@
 #include <string>
 
 namespace relief {
+
+// A source string split into the file or generator and its window: "FILE@crop=X,Y,W,H" takes the
+// W×H samples from corner (X, Y); "FILE@centre=X,Y,W,H" the W×H samples around (X, Y), moved
+// inside the map; heights renormalized to [0,1] over the window.
+struct SourceSpec {
+    std::string base;    // the file or gen:NAME:WxH[:seed]
+    std::string suffix;  // "@crop=X,Y,W,H" or "@centre=X,Y,W,H" as written, or empty
+    std::optional<CropWindow> crop;
+};
+// BadArgument when the window is not four integers X,Y,W,H.
+Result<SourceSpec> parseSourceSpec(const std::string& source);
 
 struct SurfaceOptions {
     std::string source;

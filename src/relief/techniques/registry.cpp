@@ -86,12 +86,14 @@ constexpr std::string_view kQdmPaperMaps[] = {"gen:sine:1024x1024", "gen:peaks6:
 constexpr std::string_view kQdmPaperRows[] = {"qdm", "cone", "exact"};
 constexpr int kQdmPaperCaps[] = {4, 6, 8, 12, 24, 48, 200};
 // bench_qdm's experiments (Kiglics et al. 2023 §5): qdm against safe cones by elevation and cap
-// over seven maps (the two SRTM crops of the old bench are not sources the registry can name),
-// and qdm build times.
+// over nine maps (five generators, two DEMs at their 400², two crops of global relief at the map
+// size: the Andes from the SRTM mosaic, Africa and Europe from the topography), and qdm builds.
 constexpr std::string_view kQdmStudyMaps[] = {"gen:sine:1024x1024:1", "gen:peaks6:1024x1024:1", "gen:fbm:1024x1024:1",
                                               "gen:terraces:1024x1024:1", "gen:walls:1024x1024:1",
                                               "data/colorado-elevation-400.png",
-                                              "data/finland-topography-400-16bit.png"};
+                                              "data/finland-topography-400-16bit.png",
+                                              "../shared/data/earth-srtm-5400x2700.png@crop=1500,1100,1024,1024",
+                                              "data/earth-topology-2048x1024.png@crop=900,0,1024,1024"};
 constexpr std::string_view kQdmStudyRows[] = {"qdm", "cone"};
 constexpr int kCapsAndDefault[] = {0, 4, 6, 8, 12, 24, 48, 200};  // 0 = the row's default cap
 constexpr std::string_view kQdmBuildMaps[] = {"gen:fbm:{N}x{N}:1", "gen:peaks6:{N}x{N}:1"};
@@ -220,15 +222,19 @@ constexpr StudySpec kExactStudies[] = {
 };
 
 // bench_cones: cone and relaxed-cone builders (safe and faithful), build time per size, and error
-// vs cap / steps vs elevation per builder (the old bench's SRTM window is not a registry source).
+// vs cap / steps vs elevation per builder, on fbm and an N×N window of the SRTM mosaic centred on
+// the Himalaya (86° E, 28° N: sample 7980, 1860), moved inside the map.
 constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=1"};
 constexpr int kConeBuildSizes[] = {256, 512, 1024, 2048};
-constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1"};
+constexpr std::string_view kConeBuildMaps[] = {"gen:fbm:{N}x{N}:1",
+                                               "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,{N},{N}"};
+constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1",
+                                                 "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,1024,1024"};
 constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=0",
                                                  "relaxed-cone:variant=1"};
 constexpr StudySpec kConeStudies[] = {
     {.name = "cones-builds", .description = "cone map builds (safe, faithful, relaxed faithful), wall and CPU",
-     .kind = StudyKind::Builds, .maps = kFbmBySize, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
+     .kind = StudyKind::Builds, .maps = kConeBuildMaps, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
     {.name = "cones-quality", .description = "cone builders: error vs cap, steps vs elevation, throughput",
      .maps = kConeQualityMaps, .techniques = kConeQualityRows, .caps = kCapsAndDefault, .width = 256,
      .height = 256, .distance = 1.2f},
@@ -293,14 +299,15 @@ static const TechniqueInfo kTechniques[] = {
      .buildMaps = buildSafetySdMaps, .check = checkMaps<makeSafetySdTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases},
+     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
      .buildMaps = buildSafetyCcMaps, .check = checkMaps<makeSafetyCcTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies},
+     .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies,
+     .mapSummary = safety::mapSummary},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,

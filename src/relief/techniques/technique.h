@@ -198,6 +198,9 @@ struct TechniqueInfo {
     // (unless its image method draws the sphere itself).
     Result<std::unique_ptr<Tracer>> (*createSphere)(std::shared_ptr<const SphereSurface> sphere,
                                                     const ParamValues& params) = nullptr;
+    // Named statistics of its built maps (snake_case name, value), extra columns of the bench's
+    // map-build tables (e.g. the mean safety distance); null: none.
+    std::vector<std::pair<std::string, double>> (*mapSummary)(const TechniqueMaps& maps) = nullptr;
 };
 
 // The parameter of `info` with this role (the first), or null.

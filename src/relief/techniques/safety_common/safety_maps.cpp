@@ -859,4 +859,20 @@ Result<CylinderConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, 
     return map;
 }
 
+std::vector<std::pair<std::string, double>> mapSummary(const TechniqueMaps& maps) {
+    if (maps.arrays.empty()) return {};
+    const int width = maps.arrays.front().width, height = maps.arrays.front().height;
+    double sum = 0;
+    size_t count = 0;
+    if (auto sd = distanceMapFromArrays(maps, width, height)) {
+        for (uint16_t r : sd->r) sum += r;
+        count = sd->r.size();
+    } else if (auto cc = coneMapFromArrays(maps, width, height)) {
+        for (const ConeTexel& t : cc->texels) sum += t.r;
+        count = cc->texels.size();
+    }
+    if (count == 0) return {};
+    return {{"mean_r", sum / double(count)}};
+}
+
 }  // namespace relief::safety

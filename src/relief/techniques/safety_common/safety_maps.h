@@ -159,4 +159,8 @@ Result<CylinderConeMap> coneMapFromArrays(const TechniqueMaps& maps, int width, 
 // The build options recorded in baked maps ("phi-max", "isotropic").
 Result<BuildOptions> optionsFromArrays(const TechniqueMaps& maps);
 
+// TechniqueInfo::mapSummary of safety-sd and safety-cc: "mean_r", the mean safety distance over
+// texels and classes (docs/safety.md), from either encoding; empty for maps of neither.
+std::vector<std::pair<std::string, double>> mapSummary(const TechniqueMaps& maps);
+
 }  // namespace relief::safety
