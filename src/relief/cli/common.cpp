@@ -61,8 +61,7 @@ void addTechniqueOptions(CLI::App& app, TechniqueOptions& o) {
 
 void addRoleOptions(CLI::App& app, TechniqueOptions& o) {
     app.add_option("--phi-max", o.phiMax,
-                   "viewing-angle restriction of the maps in degrees (techniques that have one)")
-        ->check(finiteRange(-90.0, 90.0));
+                   "viewing-angle restriction of the maps in degrees (techniques that have one)");
     app.add_option("--visibility", o.visibility,
                    "rays the maps are built for: all, or exterior (viewpoint outside the box)")
         ->check(CLI::IsMember({"all", "exterior"}));
