@@ -444,7 +444,7 @@ void addRenderCommand(CLI::App& app) {
                     "base surface (sphere: " + sphereTechniqueNames() + ")")
         ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
-        ->check(CLI::Range(0.0, 1e7));
+        ->check(finiteRange(0.0, 1e7));
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runRender(*o); });
 }

@@ -44,6 +44,7 @@ void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
         ->check(CLI::IsMember({"luminance", "r", "g", "b", "a"}))
         ->capture_default_str();
     app.add_option("--max-samples", o.maxSamples, "refuse heightfields with more samples")
+        ->check(CLI::Range(int64_t(1), int64_t(kMaxDimension) * kMaxDimension))
         ->capture_default_str();
 }
 
