@@ -2,15 +2,13 @@
 // reading and geometry edge cases, statistics over the pixels that matter. A hostile-input table
 // run through the CLI, then unit tests of the mechanisms (the typed open, the ray reader, the PFM
 // header, Surface::nearBox, compareHits' covered pixels).
+#include <gtest/gtest.h>
 #include <relief/core/heightfield.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/io/ray_io.h>
 #include <relief/io/read_common.h>
 #include <relief/render/compare.h>
 #include <relief/surface/surface.h>
-
-#include <gtest/gtest.h>
-
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -55,7 +53,7 @@ std::string pfm(const std::string& header) {
 }
 
 class Inputs : public ::testing::Test {
-protected:
+  protected:
     static void SetUpTestSuite() {
         tmp = fs::temp_directory_path() / ("relief_inputs_test_" + std::to_string(::getpid()));
         fs::create_directories(tmp / "dir");
@@ -63,7 +61,8 @@ protected:
         writeBytes(tmp / "nul.csv", std::string("1,1,5,0,0,-1\n2,2,5,0,0,-1\0,junk\n", 31));
         writeBytes(tmp / "rays.csv", "8,8,30,0,0,-1\n9,9,30,0,0,-1\n10,10,30,0,0,-1\n");
         writeBytes(tmp / "far20.csv", "1e20,1e20,1e20,-1,-1,-1\n");
-        // The same ray from far away and from near the box: the far one must hit where the near one does.
+        // The same ray from far away and from near the box: the far one must hit where the near one
+        // does.
         writeBytes(tmp / "far12.csv", "1e12,1e12,1e12,-1,-1,-1\n100,100,100,-1,-1,-1\n");
         writeBytes(tmp / "lf.pfm", pfm("Pf\n4 3\n-1.0\n"));
         writeBytes(tmp / "crlf.pfm", pfm("Pf\r\n4 3\r\n-1.0\r\n"));
@@ -77,7 +76,8 @@ protected:
     };
     // `timeout` so that a regression to a blocking open fails instead of hanging the suite.
     static Output relief(std::string args) {
-        for (size_t p; (p = args.find("{tmp}")) != std::string::npos;) args.replace(p, 5, tmp.string());
+        for (size_t p; (p = args.find("{tmp}")) != std::string::npos;)
+            args.replace(p, 5, tmp.string());
         const fs::path out = tmp / "out.txt", err = tmp / "err.txt";
         const std::string command = "timeout 60 " + std::string(RELIEF_CLI_PATH) + " " + args +
                                     " >" + out.string() + " 2>" + err.string() + " </dev/zero";
@@ -109,7 +109,8 @@ const InputCase kInputCases[] = {
     {"--max-rays enough", "trace " + kMap + " --rays {tmp}/rays.csv --max-rays 3", 0, "hit,t"},
     {"--max-rays 0", "trace " + kMap + " --rays {tmp}/rays.csv --max-rays 0", 1, "--max-rays"},
     // Class 6: numbers that mean nothing, with the range in the message.
-    {"--elevation nan", kRender + "--elevation nan", 1, "--elevation: 'nan' is not a finite number from -90 to 90"},
+    {"--elevation nan", kRender + "--elevation nan", 1,
+     "--elevation: 'nan' is not a finite number from -90 to 90"},
     {"--fov nan", kRender + "--fov nan", 1, "from 1 to 170"},
     {"--fov inf", kRender + "--fov inf", 1, "'inf' is not a finite number"},
     {"--distance nan", kRender + "--distance nan", 1, "--distance: 'nan'"},
@@ -120,37 +121,46 @@ const InputCase kInputCases[] = {
     {"--depth nan", kRender + "--depth nan", 1, "--depth: 'nan'"},
     {"--depth-ratio inf", kRender + "--depth-ratio inf", 1, "--depth-ratio"},
     {"--phi-max nan", kRender + "-t safety-cc --phi-max nan", 1, "'phi-max' = nan is out of range"},
-    {"--size overflow", "render " + kMap + " --size 4294967328x24 -o {tmp}/o.png", 1, "--size '4294967328x24'"},
+    {"--size overflow", "render " + kMap + " --size 4294967328x24 -o {tmp}/o.png", 1,
+     "--size '4294967328x24'"},
     {"--size trailing", "render " + kMap + " --size 16x16x -o {tmp}/o.png", 1, "expected WxH"},
     {"--radius nan", kRender + "--surface sphere --radius nan", 1, "--radius: 'nan'"},
     {"--max-samples negative", "info " + kMap + " --max-samples -5", 1, "--max-samples"},
-    {"--max-samples overflow", "info " + kMap + " --max-samples 99999999999999999999", 1, "--max-samples"},
+    {"--max-samples overflow", "info " + kMap + " --max-samples 99999999999999999999", 1,
+     "--max-samples"},
     {"--threads huge", kRender + "--threads 2147483647", 1, "--threads"},
     {"--height-range trailing", kRender + "--height-range 0:1:2", 1, "--height-range '0:1:2'"},
     {"relaxed-cone max-steps=1e9", kRender + "-t relaxed-cone --param max-steps=1e9", 1,
      "an integer 1 to 4096"},
     {"linear max-steps=1e6", kRender + "-t linear --max-steps 1000000", 1, "an integer 1 to 65536"},
-    {"bench --elevations nan", "bench --preset quick --smoke --no-images --elevations nan --out-dir {tmp}/b", 1,
+    {"bench --elevations nan",
+     "bench --preset quick --smoke --no-images --elevations nan --out-dir {tmp}/b", 1,
      "--elevations: 'nan' is not a finite number from -90 to 90"},
-    {"bench --elevations 91", "bench --preset quick --smoke --no-images --elevations 91 --out-dir {tmp}/b", 1,
-     "'91'"},
-    {"bench --repeats 0", "bench --preset quick --smoke --no-images --repeats 0 --out-dir {tmp}/b", 1, "--repeats"},
-    {"bench --azimuth nan", "bench --preset quick --smoke --no-images --azimuth nan --out-dir {tmp}/b", 1,
+    {"bench --elevations 91",
+     "bench --preset quick --smoke --no-images --elevations 91 --out-dir {tmp}/b", 1, "'91'"},
+    {"bench --repeats 0", "bench --preset quick --smoke --no-images --repeats 0 --out-dir {tmp}/b",
+     1, "--repeats"},
+    {"bench --azimuth nan",
+     "bench --preset quick --smoke --no-images --azimuth nan --out-dir {tmp}/b", 1,
      "--azimuth nan"},
-    {"bench --distance inf", "bench --preset quick --smoke --no-images --distance inf --out-dir {tmp}/b", 1,
+    {"bench --distance inf",
+     "bench --preset quick --smoke --no-images --distance inf --out-dir {tmp}/b", 1,
      "--distance inf"},
     {"bench --caps 1.5", "bench --preset quick --smoke --no-images --caps 1.5 --out-dir {tmp}/b", 1,
      "is not an integer"},
-    {"bench --size overflow", "bench --preset quick --smoke --no-images --size 4294967312x16 --out-dir {tmp}/b",
-     1, "--size '4294967312x16'"},
+    {"bench --size overflow",
+     "bench --preset quick --smoke --no-images --size 4294967312x16 --out-dir {tmp}/b", 1,
+     "--size '4294967312x16'"},
     // Class 8: PFM headers with CRLF or comments read as the LF one.
     {"PFM LF", "info {tmp}/lf.pfm", 0, "mean 0.4306"},
     {"PFM CRLF", "info {tmp}/crlf.pfm", 0, "mean 0.4306"},
     {"PFM comment", "info {tmp}/comment.pfm", 0, "mean 0.4306"},
-    {"rays from 1e20", "trace " + kMap + " --rays {tmp}/far20.csv", 3, "far20.csv:1: origin coordinate 1e+20 is too far"},
+    {"rays from 1e20", "trace " + kMap + " --rays {tmp}/far20.csv", 3,
+     "far20.csv:1: origin coordinate 1e+20 is too far"},
     // Class 9: the render summary's denominators, and -q.
     {"render covered px", kRender + "--deterministic", 0, " of 256 |"},
-    {"render covered note", kRender + "--deterministic", 0, "covered px: where the reference or the technique hits"},
+    {"render covered note", kRender + "--deterministic", 0,
+     "covered px: where the reference or the technique hits"},
     {"render json covered", kRender + "--deterministic --format json", 0, "\"covered_pixels\""},
 };
 
@@ -159,7 +169,8 @@ TEST_F(Inputs, HostileTable) {
         const Output r = relief(c.args);
         EXPECT_EQ(r.code, c.exitCode) << c.name << ": relief " << c.args << "\nstderr: " << r.err;
         EXPECT_NE((r.out + r.err).find(c.fragment), std::string::npos)
-            << c.name << ": output lacks '" << c.fragment << "':\n" << r.out << r.err;
+            << c.name << ": output lacks '" << c.fragment << "':\n"
+            << r.out << r.err;
     }
     // Nothing of a refused bench was made.
     EXPECT_FALSE(fs::exists(tmp / "b"));
@@ -193,7 +204,8 @@ TEST_F(Inputs, FarRaysHitInsideTheBox) {
 
 TEST_F(Inputs, QuietPrintsErrorsOnly) {
     for (const std::string args :
-         {"-q " + kRender + "--deterministic", "-q " + kRender + "-t safety-cc --param phi-max=-45 --elevation 30",
+         {"-q " + kRender + "--deterministic",
+          "-q " + kRender + "-t safety-cc --param phi-max=-45 --elevation 30",
           "-q bake " + kMap + " -t cone -o {tmp}/q.exr",
           std::string("-q bench --preset quick --smoke --no-images --out-dir {tmp}/qb")}) {
         const Output r = relief(args);
@@ -209,7 +221,8 @@ TEST_F(Inputs, QuietPrintsErrorsOnly) {
 // The mechanisms.
 
 TEST(InputsUnit, OpenRegularFileRefusesEverythingElse) {
-    const fs::path dir = fs::temp_directory_path() / ("relief_open_test_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("relief_open_test_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     ASSERT_EQ(::mkfifo((dir / "fifo").c_str(), 0600), 0);
     writeBytes(dir / "file", "abc");
@@ -233,7 +246,8 @@ TEST(InputsUnit, OpenRegularFileRefusesEverythingElse) {
 TEST(InputsUnit, RayParserStopsWhereTheInputGoesWrong) {
     auto nul = parseRays(std::string_view("1,1,5,0,0,-1\n1,1\0,5,0,0,-1\n", 27), "r.csv");
     ASSERT_FALSE(nul);
-    EXPECT_NE(nul.error().message.find("r.csv:2: NUL byte"), std::string::npos) << nul.error().message;
+    EXPECT_NE(nul.error().message.find("r.csv:2: NUL byte"), std::string::npos)
+        << nul.error().message;
 
     auto limit = parseRays("1,1,5,0,0,-1\n1,1,5,0,0,-1\n", "r.csv", 1);
     ASSERT_FALSE(limit);
@@ -257,7 +271,8 @@ TEST(InputsUnit, ReadRaysFromADeviceStopsAtOnce) {
 }
 
 TEST(InputsUnit, PfmHeaderWithCrlfAndComments) {
-    const fs::path dir = fs::temp_directory_path() / ("relief_pfm_test_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("relief_pfm_test_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     writeBytes(dir / "lf.pfm", pfm("Pf\n4 3\n-1.0\n"));
     auto reference = loadHeightfield((dir / "lf.pfm").string());
@@ -293,6 +308,18 @@ TEST(InputsUnit, NearBoxMovesFarRaysInDouble) {
 
     const Ray away{vec3(1e12f), -d, kInfinity};  // leaves: a miss, whatever the precision
     EXPECT_TRUE(surface.clip(surface.nearBox(away, offset)).empty());
+    // Repeat: down to the z slab, x and y wrapped by whole periods.
+    const Surface tiled(hf, 3.2f, EdgeMode::Repeat);
+    const Ray down = tiled.nearBox(
+        Ray{vec3(5.0f, 5.0f, 1e11f), glm::normalize(vec3(0.001f, 0.002f, -1.0f)), kInfinity},
+        offset);
+    EXPECT_GT(offset, 9e10);
+    EXPECT_GE(down.origin.x, 0.0f);
+    EXPECT_LT(down.origin.x, 32.0f);
+    EXPECT_GE(down.origin.y, 0.0f);
+    EXPECT_LT(down.origin.y, 32.0f);
+    EXPECT_LT(down.origin.z, 100.0f);
+    EXPECT_FALSE(tiled.clip(down).empty());
     // Not moved first, an origin beyond float precision misses rather than hits anywhere.
     EXPECT_TRUE(surface.clip(Ray{vec3(1e20f), d, kInfinity}).empty());
 }
@@ -300,9 +327,9 @@ TEST(InputsUnit, NearBoxMovesFarRaysInDouble) {
 TEST(InputsUnit, CompareHitsCountsCoveredPixels) {
     Image<Hit> ref(4, 1), hits(4, 1);
     ref.pixels[0].hit = hits.pixels[0].hit = true;  // both hit, same t
-    ref.pixels[1].hit = true;                        // the technique misses: wrong
-    hits.pixels[2].hit = true;                       // a false hit: wrong
-    for (Hit& h : hits.pixels) h.steps = 4;          // pixel 3: background, both miss
+    ref.pixels[1].hit = true;                       // the technique misses: wrong
+    hits.pixels[2].hit = true;                      // a false hit: wrong
+    for (Hit& h : hits.pixels) h.steps = 4;         // pixel 3: background, both miss
     const ErrorStats s = compareHits(hits, ref);
     EXPECT_EQ(s.pixels, 4u);
     EXPECT_EQ(s.covered, 3u);

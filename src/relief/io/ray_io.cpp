@@ -1,9 +1,7 @@
-#include <relief/io/ray_io.h>
-
-#include <relief/io/image_write.h>
-#include <relief/io/read_common.h>
-
 #include <fmt/format.h>
+#include <relief/io/image_write.h>
+#include <relief/io/ray_io.h>
+#include <relief/io/read_common.h>
 
 #include <cmath>
 #include <cstdio>
@@ -38,21 +36,23 @@ bool isBlank(std::string_view line) {
 
 // Rays one line at a time, so that a limit stops the read where it is reached.
 class RayParser {
-public:
+  public:
     RayParser(const std::string& what, size_t maxRays) : m_what(what), m_maxRays(maxRays) {}
 
     Status line(std::string_view line) {
         ++m_lineNumber;
         if (line.find('\0') != std::string_view::npos)
-            return makeError(ErrorKind::InvalidInput, "{}:{}: NUL byte in a ray line (not a text file?)",
-                             m_what, m_lineNumber);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}:{}: NUL byte in a ray line (not a text file?)", m_what,
+                             m_lineNumber);
         if (line.size() > kMaxRayLineBytes)
             return makeError(ErrorKind::InvalidInput, "{}:{}: line longer than {} bytes", m_what,
                              m_lineNumber, kMaxRayLineBytes);
         if (isBlank(line)) return {};
         float v[6];
         if (!parseSix(line, v)) {
-            const bool header = m_lineNumber == 1 && line.find_first_of("0123456789") == std::string_view::npos;
+            const bool header =
+                m_lineNumber == 1 && line.find_first_of("0123456789") == std::string_view::npos;
             if (header) return {};
             return makeError(ErrorKind::InvalidInput,
                              "{}:{}: expected six numbers ox,oy,oz,dx,dy,dz", m_what, m_lineNumber);
@@ -80,7 +80,7 @@ public:
     }
     std::vector<Ray> take() { return std::move(m_rays); }
 
-private:
+  private:
     const std::string& m_what;
     size_t m_maxRays;
     size_t m_lineNumber = 0;
@@ -117,8 +117,10 @@ Result<std::vector<Ray>> readRays(const std::string& path, size_t maxRays) {
         const size_t n = std::fread(buffer, 1, sizeof buffer, in);
         for (size_t k = 0; k < n; ++k) {
             if (buffer[k] != '\n') {
-                if (line.size() <= kMaxRayLineBytes) line.push_back(buffer[k]);
-                else if (Status s = parser.line(line); !s) return s.error();
+                if (line.size() <= kMaxRayLineBytes)
+                    line.push_back(buffer[k]);
+                else if (Status s = parser.line(line); !s)
+                    return s.error();
                 continue;
             }
             if (Status s = parser.line(line); !s) return s.error();
@@ -126,7 +128,8 @@ Result<std::vector<Ray>> readRays(const std::string& path, size_t maxRays) {
         }
         if (n < sizeof buffer) break;
     }
-    if (std::ferror(in)) return makeError(ErrorKind::Io, "{}: read failed: {}", what, std::strerror(errno));
+    if (std::ferror(in))
+        return makeError(ErrorKind::Io, "{}: read failed: {}", what, std::strerror(errno));
     if (!line.empty())
         if (Status s = parser.line(line); !s) return s.error();
     return parser.take();

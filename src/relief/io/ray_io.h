@@ -20,8 +20,9 @@ inline constexpr size_t kMaxRayLineBytes = 4096;
 // here); such rays are refused rather than traced to a hit somewhere else.
 inline constexpr double kMaxRayOrigin = double(int64_t(1) << 40);
 
-// Directions are normalized; zero or non-finite values, origins beyond kMaxRayOrigin, a NUL byte, an overlong line and more than
-// `maxRays` rays are errors naming the line, found while reading (nothing is read past them).
+// Directions are normalized; zero or non-finite values, origins beyond kMaxRayOrigin, a NUL byte,
+// an overlong line and more than `maxRays` rays are errors naming the line, found while reading
+// (nothing is read past them).
 Result<std::vector<Ray>> parseRays(std::string_view text, const std::string& what,
                                    size_t maxRays = kDefaultMaxRays);
 // `path` is a regular file or "-" (stdin).

@@ -25,7 +25,8 @@ struct FileCloser {
     void operator()(std::FILE* file) const { std::fclose(file); }
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-Result<FilePtr> openRegularFile(const std::string& path, std::string_view what, int64_t* size = nullptr);
+Result<FilePtr> openRegularFile(const std::string& path, std::string_view what,
+                                int64_t* size = nullptr);
 
 // An opened regular file with its size and its first bytes (enough for every format's magic and
 // a PFM header). The read position starts at 0.
