@@ -4,8 +4,11 @@
 #include <relief/techniques/registry.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <type_traits>
 
 namespace relief::bench {
 
@@ -96,8 +99,9 @@ BenchConfig fromStudy(const StudySpec& s) {
     return c;
 }
 
+// Numbers, comma-separated, each finite and in [lo, hi] (integral for an integer T).
 template <class T>
-Result<std::vector<T>> parseList(const std::string& text, const char* what) {
+Result<std::vector<T>> parseList(const std::string& text, const char* what, double lo, double hi) {
     std::vector<T> values;
     size_t start = 0;
     while (start <= text.size()) {
@@ -108,10 +112,23 @@ Result<std::vector<T>> parseList(const std::string& text, const char* what) {
         const double v = std::strtod(item.c_str(), &end);
         if (item.empty() || *end != '\0')
             return makeError(ErrorKind::BadArgument, "{} '{}': expected a comma-separated list of numbers", what, text);
+        if (!std::isfinite(v) || v < lo || v > hi || (std::is_integral_v<T> && v != std::floor(v)))
+            return makeError(ErrorKind::BadArgument, "{}: '{}' is not {} from {:g} to {:g}", what, item,
+                             std::is_integral_v<T> ? "an integer" : "a finite number", lo, hi);
         values.push_back(T(v));
         start = comma + 1;
     }
     return values;
+}
+
+// "WxH" with both sides integers (no overflow, no trailing text).
+bool parseImageSize(const std::string& text, int& w, int& h) {
+    const size_t x = text.find('x');
+    if (x == std::string::npos) return false;
+    const char* end = text.data() + text.size();
+    const auto a = std::from_chars(text.data(), text.data() + x, w);
+    const auto b = std::from_chars(text.data() + x + 1, end, h);
+    return a.ec == std::errc() && a.ptr == text.data() + x && b.ec == std::errc() && b.ptr == end;
 }
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -207,22 +224,18 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
     }
     if (!o.maps.empty()) c.maps = splitSources(o.maps);
     if (!o.elevations.empty()) {
-        auto v = parseList<float>(o.elevations, "--elevations");
+        auto v = parseList<float>(o.elevations, "--elevations", -90.0, 90.0);
         if (!v) return v.error();
         c.elevations = *v;
     }
     if (!o.caps.empty()) {
-        auto v = parseList<int>(o.caps, "--caps");
+        auto v = parseList<int>(o.caps, "--caps", 1, 1e9);
         if (!v) return v.error();
-        for (int cap : *v)
-            if (cap < 1) return makeError(ErrorKind::BadArgument, "--caps: {} is not a positive cap", cap);
         c.caps = *v;
     }
     if (!o.sizes.empty()) {
-        auto v = parseList<int>(o.sizes, "--map-sizes");
+        auto v = parseList<int>(o.sizes, "--map-sizes", 2, 16384);
         if (!v) return v.error();
-        for (int n : *v)
-            if (n < 2 || n > 16384) return makeError(ErrorKind::BadArgument, "--map-sizes: {} is not in 2..16384", n);
         c.sizes = *v;
     }
     if (!o.backends.empty()) {
@@ -232,7 +245,7 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
     }
     if (!o.size.empty()) {
         int w = 0, h = 0;
-        if (std::sscanf(o.size.c_str(), "%dx%d", &w, &h) != 2 || w < 16 || h < 16 || w % 16 || h % 16 || w > 8192 || h > 8192)
+        if (!parseImageSize(o.size, w, h) || w < 16 || h < 16 || w % 16 || h % 16 || w > 8192 || h > 8192)
             return makeError(ErrorKind::BadArgument, "--size '{}': WxH, multiples of 16 from 16 to 8192", o.size);
         c.size = {w, h};
     }
@@ -241,13 +254,19 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
             return makeError(ErrorKind::BadArgument, "--edge '{}': clamp or repeat", o.edge);
         c.edge = o.edge;
     }
+    auto finite = [](const auto& value, const char* what, double lo, double hi) -> Status {
+        if (value && !(std::isfinite(double(*value)) && *value >= lo && *value <= hi))
+            return makeError(ErrorKind::BadArgument, "{} {}: expected a finite number from {:g} to {:g}",
+                             what, *value, lo, hi);
+        return {};
+    };
+    for (Status s : {finite(o.depth, "--depth", 0.0, 1e6), finite(o.depthRatio, "--depth-ratio", 0.0, 1e6),
+                     finite(o.azimuth, "--azimuth", -360.0, 360.0), finite(o.distance, "--distance", 0.01, 1000.0)})
+        if (!s) return s.error();
     if (o.depth) c.depth = *o.depth;
     if (o.depthRatio) c.depthRatio = *o.depthRatio;
     if (o.azimuth) c.azimuth = *o.azimuth;
-    if (o.distance) {
-        if (!(*o.distance > 0.0f)) return makeError(ErrorKind::BadArgument, "--distance must be > 0");
-        c.distance = *o.distance;
-    }
+    if (o.distance) c.distance = *o.distance;
     if (o.repeats < 0) return makeError(ErrorKind::BadArgument, "--repeats must be >= 1");
     if (o.repeats > 0) c.repeats = o.repeats;
     if (o.smoke) {

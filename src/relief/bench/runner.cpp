@@ -454,6 +454,7 @@ private:
         writeFile("index.html", benchHtml(m_rows, m_config, report));
         writeFile("report.md", benchMarkdown(m_rows, m_config, report, ""));
         if (!m_o.markdownPath.empty()) writeMarkdownCopy(report);
+        if (Progress::quiet()) return;  // -q: errors only
         if (!m_glDevice.empty()) std::cout << "GL: " << m_glDevice << "\n";
         std::cout << fmt::format("\nwrote {0}/index.html, {0}/report.md, results.csv, results.json\n", m_o.outDir);
     }
@@ -465,7 +466,7 @@ private:
         std::string prefix = fs::relative(fs::absolute(m_o.outDir), target.parent_path()).generic_string();
         prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
         orFail(writeTextFile(m_o.markdownPath, benchMarkdown(m_rows, m_config, report, prefix)));
-        std::cout << "wrote " << m_o.markdownPath << "\n";
+        if (!Progress::quiet()) std::cout << "wrote " << m_o.markdownPath << "\n";
     }
 
     void writeFile(const std::string& name, const std::string& text) const {

@@ -1,5 +1,6 @@
 // relief bake HEIGHTFIELD --maps TECH[,TECH...] -o maps.exr
 #include <relief/cli/common.h>
+#include <relief/core/progress.h>
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
 
@@ -56,13 +57,14 @@ void runBake(const BakeOptions& o) {
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         size_t bytes = 0;
         for (const MapArray& a : maps.arrays) bytes += a.data.size() * sizeof(float);
-        std::cout << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", info->name,
+        if (!Progress::quiet())
+            std::cout << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", info->name,
                                  maps.arrays.size(), double(bytes) / double(hf->sampleCount()),
                                  o.deterministic ? "" : fmt::format(", built in {:.3f} s on {} threads", seconds, ThreadLimit::current()));
         file.techniques.push_back(std::move(maps));
     }
     orFail(writeMapFile(o.output, file));
-    std::cout << "wrote " << o.output << "\n";
+    if (!Progress::quiet()) std::cout << "wrote " << o.output << "\n";
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_option("--map-sizes", v.sizes, "map sizes N of a builds or scaling study, comma-separated");
     cmd->add_option("--backend", v.backends, "backends, comma-separated: cpu, gl");
     cmd->add_option("--size", v.size, "image size WxH (multiples of 16)");
-    cmd->add_option("--repeats", v.repeats, "timed runs per row (the best counts)");
+    cmd->add_option("--repeats", v.repeats, "timed runs per row (the best counts)")
+        ->check(CLI::Range(1, 1000));
     cmd->add_flag("--smoke", v.smoke, "a seconds-long run of the preset: maps 64², one view, 32×32 rays, one repeat");
     cmd->add_option("--out-dir", o->outDir, "output folder")->capture_default_str();
     cmd->add_option("--markdown", o->markdownPath, "also write the Markdown report to this file");

@@ -4,6 +4,7 @@
 // sphere for rows that can draw it), measured against that surface's exact reference.
 #include <relief/cli/common.h>
 #include <relief/core/parallel.h>
+#include <relief/core/progress.h>
 #include <relief/io/image_write.h>
 #include <relief/render/compare.h>
 #include <relief/render/curves/curves_image.h>
@@ -12,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -71,10 +73,15 @@ std::vector<std::string> techniqueList(const std::string& spec) {
 }
 
 Result<ivec2> parseImageSize(const std::string& text) {
+    // from_chars: "4294967328" overflows into an error, not into 32.
     int w = 0, h = 0;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%dx%d%c", &w, &h, &extra) != 2 || w < 1 || h < 1 || w > 16384 ||
-        h > 16384)
+    const size_t x = text.find('x');
+    const char* end = text.data() + text.size();
+    const auto a = std::from_chars(text.data(), text.data() + std::min(x, text.size()), w);
+    const auto b = x == std::string::npos ? a : std::from_chars(text.data() + x + 1, end, h);
+    const bool parsed = x != std::string::npos && a.ec == std::errc() && a.ptr == text.data() + x &&
+                        b.ec == std::errc() && b.ptr == end;
+    if (!parsed || w < 1 || h < 1 || w > 16384 || h > 16384)
         return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each", text);
     return ivec2(w, h);
 }
@@ -125,13 +132,17 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
     if (o.format == "json") {
         nlohmann::json rows = nlohmann::json::array();
         for (const TechniqueRun& r : runs) {
+            // Rates over the covered pixels (reference or technique hits), with the counts.
             nlohmann::json row = {{"technique", r.name},        {"contract", r.contract},
                                   {"pixels", r.stats.pixels},    {"hits", r.stats.hits},
+                                  {"covered_pixels", r.stats.covered},
+                                  {"both_hit_pixels", r.stats.bothHit},
                                   {"wrong_pixels", r.stats.wrong},
+                                  {"wrong_rate", r.stats.coveredWrongRate()},
                                   {"error_mean", r.stats.error.mean},
                                   {"error_p95", r.stats.error.p95},
                                   {"error_max", r.stats.error.max},
-                                  {"steps_mean", r.stats.steps.mean},
+                                  {"steps_mean", r.stats.coveredSteps.mean},
                                   {"steps_max", r.stats.steps.max},
                                   {"fetches_mean", r.stats.fetches.mean},
                                   {"surface", o.baseSurface}};
@@ -142,15 +153,19 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
         out << rows.dump(2) << "\n";
         return;
     }
-    out << "| technique | contract | mean steps | max steps | mean |err| | p95 |err| | max |err| | "
-           "wrong px | ms |\n|---|---|---|---|---|---|---|---|---|\n";
+    out << "| technique | contract | covered px | mean steps | max steps | both hit | mean |err| | "
+           "p95 |err| | max |err| | wrong px | ms |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const TechniqueRun& r : runs)
-        out << fmt::format("| {} | {} | {:.2f} | {:.0f} | {:.3g} | {:.3g} | {:.3g} | {:.3f}% | {} |\n",
-                           r.name, r.contract, r.stats.steps.mean, r.stats.steps.max,
-                           r.stats.error.mean, r.stats.error.p95, r.stats.error.max,
-                           100.0 * r.stats.wrongRate(),
+        out << fmt::format("| {} | {} | {} of {} | {:.2f} | {:.0f} | {} | {:.3g} | {:.3g} | {:.3g} | "
+                           "{} = {:.3f}% | {} |\n",
+                           r.name, r.contract, r.stats.covered, r.stats.pixels,
+                           r.stats.coveredSteps.mean, r.stats.steps.max, r.stats.bothHit,
+                           r.stats.error.mean, r.stats.error.p95, r.stats.error.max, r.stats.wrong,
+                           100.0 * r.stats.coveredWrongRate(),
                            o.deterministic ? std::string("-")
                                            : fmt::format("{:.1f}", 1000.0 * r.result.seconds));
+    out << "\ncovered px: where the reference or the technique hits; mean steps and wrong px are "
+           "over those, |err| over the pixels both hit\n";
     if (o.baseSurface == "sphere")
         out << "\non the sphere; errors against the sphere reference\n";
     printCurvesTable(o, runs, out);
@@ -179,7 +194,7 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
 
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
 void warnAboutView(const TechniqueInfo& info, const ParamValues& params, const Camera& camera) {
-    if (!info.viewWarning) return;
+    if (!info.viewWarning || Progress::quiet()) return;
     const std::string warning = info.viewWarning(params, primaryRays(camera));
     if (!warning.empty())
         std::fprintf(stderr, "relief: warning: %s: %s\n", std::string(info.name).c_str(),
@@ -323,7 +338,8 @@ void runRender(const RenderOptions& o) {
         for (size_t k = infos.size(); k-- > 0;) {
             const Status drawable = checkDrawable(o, *infos[k], overrides[k]);
             if (drawable || drawable.error().kind != ErrorKind::Unsupported) continue;
-            std::fprintf(stderr, "relief: note: -t all: skipping %s\n", drawable.error().message.c_str());
+            if (!Progress::quiet())
+                std::fprintf(stderr, "relief: note: -t all: skipping %s\n", drawable.error().message.c_str());
             infos.erase(infos.begin() + std::ptrdiff_t(k));
             overrides.erase(overrides.begin() + std::ptrdiff_t(k));
             names.erase(names.begin() + std::ptrdiff_t(k));
@@ -394,7 +410,7 @@ void runRender(const RenderOptions& o) {
                      !o.errorOut.empty() ? o.errorOut : (prefix.empty() ? "" : prefix + "-error.png"));
         runs.push_back(std::move(run));
     }
-    printSummary(o, runs, std::cout);
+    if (!Progress::quiet()) printSummary(o, runs, std::cout);  // -q: errors only
     if (!o.outDir.empty()) writeSummaryFiles(o, runs);
 }
 
@@ -428,7 +444,7 @@ void addRenderCommand(CLI::App& app) {
                     "base surface (sphere: " + sphereTechniqueNames() + ")")
         ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
-        ->check(CLI::Range(0.0, 1e7));
+        ->check(finiteRange(0.0, 1e7));
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runRender(*o); });
 }

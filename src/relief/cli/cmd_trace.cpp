@@ -11,6 +11,7 @@ struct TraceOptions {
     SurfaceOptions surface;
     TechniqueOptions technique;
     std::string rays;
+    size_t maxRays = kDefaultMaxRays;
     std::string output = "-";
     int threads = 0;
 };
@@ -20,9 +21,14 @@ void runTrace(const TraceOptions& o) {
     auto hf = orFail(loadHeightfield(o.surface));
     auto surface = orFail(makeSurface(o.surface, hf));
     auto tracer = orFail(makeTracer(o.technique, surface));
-    const std::vector<Ray> rays = orFail(readRays(o.rays));
+    std::vector<Ray> rays = orFail(readRays(o.rays, o.maxRays));
+    // Far origins are brought to the box in double first; their hits get the distance back.
+    std::vector<double> offsets(rays.size());
+    for (size_t k = 0; k < rays.size(); ++k) rays[k] = surface->nearBox(rays[k], offsets[k]);
     std::vector<Hit> hits(rays.size());
     traceAll(*tracer, rays, hits);
+    for (size_t k = 0; k < hits.size(); ++k)
+        if (hits[k].hit) hits[k].t = float(double(hits[k].t) + offsets[k]);
     orFail(writeHits(o.output, hits));
 }
 
@@ -36,7 +42,9 @@ void addTraceCommand(CLI::App& app) {
         "hit,t,x,y,z,steps per ray");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
-    cmd->add_option("--rays", o->rays, "ray file")->required();
+    cmd->add_option("--rays", o->rays, "ray file ('-' = stdin)")->required();
+    cmd->add_option("--max-rays", o->maxRays, "refuse ray files with more rays (checked while reading)")
+        ->check(CLI::Range(size_t(1), kMaxRaysPerFile))->capture_default_str();
     cmd->add_option("-o,--output", o->output, "hit file ('-' = stdout)")->capture_default_str();
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runTrace(*o); });

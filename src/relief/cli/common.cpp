@@ -12,15 +12,30 @@
 
 namespace relief::cli {
 
+CLI::Validator finiteRange(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            double value = 0.0;
+            const char* end = text.data() + text.size();
+            const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+            if (ec == std::errc() && ptr == end && std::isfinite(value) && value >= lo &&
+                value <= hi)
+                return {};
+            return fmt::format("'{}' is not a finite number from {:g} to {:g}", text, lo, hi);
+        },
+        fmt::format("FINITE in [{:g}, {:g}]", lo, hi));
+}
+
 void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
     app.add_option("heightfield", o.source,
                    "height map file (PNG, JPEG, EXR, PFM, raw) or gen:NAME:WxH[:seed]; a suffix "
                    "@crop=X,Y,W,H takes the W×H window at corner X,Y (@centre=X,Y,W,H: centred on "
                    "X,Y, moved inside the map), heights renormalized to [0,1] over it")
         ->required();
-    app.add_option("--depth", o.depth, "relief depth D in texels (overrides --depth-ratio)");
+    app.add_option("--depth", o.depth, "relief depth D in texels (overrides --depth-ratio)")
+        ->check(finiteRange(0.0, 1e6));
     app.add_option("--depth-ratio", o.depthRatio, "relief depth as a fraction of max(W,H)")
-        ->capture_default_str();
+        ->check(finiteRange(0.0, 1e6))->capture_default_str();
     app.add_option("--edge", o.edge, "edge mode")
         ->check(CLI::IsMember({"clamp", "repeat"}))
         ->capture_default_str();
@@ -31,6 +46,7 @@ void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
         ->check(CLI::IsMember({"luminance", "r", "g", "b", "a"}))
         ->capture_default_str();
     app.add_option("--max-samples", o.maxSamples, "refuse heightfields with more samples")
+        ->check(CLI::Range(int64_t(1), int64_t(kMaxDimension) * kMaxDimension))
         ->capture_default_str();
 }
 
@@ -55,20 +71,24 @@ void addRoleOptions(CLI::App& app, TechniqueOptions& o) {
 }
 
 void addThreadsOption(CLI::App& app, int& threads) {
-    app.add_option("--threads", threads, "worker threads (0 = all cores)")->capture_default_str();
+    app.add_option("--threads", threads, "worker threads (0 = all cores)")
+        ->check(CLI::Range(0, kMaxThreads))->capture_default_str();
 }
 
 void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
                       const CameraLimits& limits) {
     app.add_option("--elevation", view.elevationDeg, "camera elevation above the base (degrees)")
-        ->check(CLI::Range(-90.0f, 90.0f))->capture_default_str();
-    app.add_option("--azimuth", view.azimuthDeg, "camera azimuth (degrees)")->capture_default_str();
+        ->check(finiteRange(-90.0, 90.0))->capture_default_str();
+    app.add_option("--azimuth", view.azimuthDeg, "camera azimuth (degrees)")
+        ->check(finiteRange(-kMaxAzimuth, kMaxAzimuth))->capture_default_str();
     app.add_option("--distance", view.distance, "camera distance in box diagonals")
-        ->check(CLI::Range(limits.minDistance, limits.maxDistance))->capture_default_str();
+        ->check(finiteRange(limits.minDistance, limits.maxDistance))->capture_default_str();
     app.add_option("--fov", view.fovDeg, "vertical field of view (degrees)")
-        ->check(CLI::Range(limits.minFov, limits.maxFov))->capture_default_str();
-    app.add_option("--light-elevation", lightElevation, "light elevation (degrees)")->capture_default_str();
-    app.add_option("--light-azimuth", lightAzimuth, "light azimuth (degrees)")->capture_default_str();
+        ->check(finiteRange(limits.minFov, limits.maxFov))->capture_default_str();
+    app.add_option("--light-elevation", lightElevation, "light elevation (degrees)")
+        ->check(finiteRange(-90.0, 90.0))->capture_default_str();
+    app.add_option("--light-azimuth", lightAzimuth, "light azimuth (degrees)")
+        ->check(finiteRange(-kMaxAzimuth, kMaxAzimuth))->capture_default_str();
 }
 
 namespace {

@@ -29,6 +29,13 @@ struct TechniqueOptions {
     std::string backend = "cpu";
 };
 
+// CLI::Range lets NaN through (every comparison with it is false) and CLI11 reads "inf"; options
+// that take a number check it with this: finite and in [lo, hi], the range in the message.
+CLI::Validator finiteRange(double lo, double hi);
+// Azimuths are taken in one turn either way; more threads than this is a typo, not a machine.
+inline constexpr double kMaxAzimuth = 360.0;
+inline constexpr int kMaxThreads = 4096;
+
 void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
 void addThreadsOption(CLI::App& app, int& threads);

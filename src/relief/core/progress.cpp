@@ -13,6 +13,7 @@ constexpr int64_t kBarIntervalMs = 100, kLineIntervalMs = 30000;
 }
 
 void Progress::setQuiet(bool quiet) { gQuiet = quiet; }
+bool Progress::quiet() { return gQuiet; }
 
 Progress::Progress(std::string label, int64_t total)
     : m_label(std::move(label)),

@@ -15,6 +15,7 @@ public:
     void advance(int64_t amount = 1);  // thread-safe
 
     static void setQuiet(bool quiet);
+    static bool quiet();  // -q: commands print errors only
 
 private:
     enum class Mode { Off, Bar, Lines };

@@ -177,6 +177,7 @@ std::string glslInterface(const TechniqueInfo* info, const TechniqueMaps* maps) 
     text += constant("kEdgeClamp", int(EdgeMode::Clamp));
     text += constant("kEdgeRepeat", int(EdgeMode::Repeat));
     text += constant("kRepeatTravelFactor", Surface::kRepeatTravelFactor);
+    text += constant("kMaxOriginCoordinate", Surface::kMaxOriginCoordinate);
     text += constant("kFloatEpsilon", std::numeric_limits<float>::epsilon());
     text += constant("kIntMax", std::numeric_limits<int>::max());
     if (info) {

@@ -20,13 +20,19 @@ struct PfmHeader {
     size_t dataOffset = 0;
 };
 
-// Splits "W H SCALE" after the two-byte magic; the data starts one whitespace byte after SCALE.
+// Splits "W H SCALE" after the two-byte magic; the data starts after the line break that ends SCALE
+// (one whitespace byte, or CR LF as Windows writers put it). Between the magic, W, H and SCALE,
+// '#' comment lines are skipped, as some writers add them (netpbm's habit; PFM has no rule).
 bool parsePfmHeader(std::span<const unsigned char> head, PfmHeader& header) {
     const std::string_view text(reinterpret_cast<const char*>(head.data()), head.size());
     size_t pos = 2;
     auto token = [&]() -> std::string_view {
         const size_t start = pos;
-        while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+        for (;;) {
+            while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+            if (pos == start || pos >= text.size() || text[pos] != '#') break;
+            while (pos < text.size() && text[pos] != '\n') ++pos;
+        }
         if (pos == start) return {};  // a token must follow whitespace
         const size_t begin = pos;
         while (pos < text.size() && !std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
@@ -42,7 +48,8 @@ bool parsePfmHeader(std::span<const unsigned char> head, PfmHeader& header) {
         return false;
     header.channels = head[1] == 'F' ? 3 : 1;
     header.endian = scale < 0.0 ? std::endian::little : std::endian::big;
-    header.dataOffset = pos + 1;
+    const bool crlf = text[pos] == '\r' && pos + 1 < text.size() && text[pos + 1] == '\n';
+    header.dataOffset = pos + (crlf ? 2 : 1);
     return true;
 }
 

@@ -10,11 +10,23 @@
 
 namespace relief {
 
+// The largest --max-rays (28 bytes a ray in memory: 3.5 GiB) and its default.
 inline constexpr size_t kMaxRaysPerFile = size_t(1) << 27;
+inline constexpr size_t kDefaultMaxRays = size_t(1) << 24;
+// A longer line is not a ray (six numbers fit in a few hundred bytes); it ends the read early.
+inline constexpr size_t kMaxRayLineBytes = 4096;
 
-// Directions are normalized; zero or non-finite values are errors naming the line.
-Result<std::vector<Ray>> parseRays(std::string_view text, const std::string& what);
-Result<std::vector<Ray>> readRays(const std::string& path);
+// Beyond this an origin cannot be brought to the box even in double precision (ulp 2^-12 texel
+// here); such rays are refused rather than traced to a hit somewhere else.
+inline constexpr double kMaxRayOrigin = double(int64_t(1) << 40);
+
+// Directions are normalized; zero or non-finite values, origins beyond kMaxRayOrigin, a NUL byte,
+// an overlong line and more than `maxRays` rays are errors naming the line, found while reading
+// (nothing is read past them).
+Result<std::vector<Ray>> parseRays(std::string_view text, const std::string& what,
+                                   size_t maxRays = kDefaultMaxRays);
+// `path` is a regular file or "-" (stdin).
+Result<std::vector<Ray>> readRays(const std::string& path, size_t maxRays = kDefaultMaxRays);
 
 std::string formatHits(const std::vector<Hit>& hits);
 Status writeHits(const std::string& path, const std::vector<Hit>& hits);

@@ -1,6 +1,8 @@
 #include <relief/io/read_common.h>
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -9,21 +11,52 @@
 
 namespace relief {
 
+namespace {
+
+const char* fileTypeName(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO (pipe)";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+}  // namespace
+
+Result<FilePtr> openRegularFile(const std::string& path, std::string_view what, int64_t* size) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+    if (fd < 0) return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(errno));
+    struct stat info {};
+    if (::fstat(fd, &info) != 0) {
+        const int error = errno;
+        ::close(fd);
+        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(error));
+    }
+    // Pipes and devices have no size and may block or never end; every reader here needs a file.
+    if (!S_ISREG(info.st_mode)) {
+        ::close(fd);
+        return makeError(ErrorKind::Io, "{}: cannot open: is {}, not {}", path,
+                         fileTypeName(info.st_mode), what);
+    }
+    // Regular files never block; clearing the flag keeps stdio's reads ordinary.
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    FilePtr file(::fdopen(fd, "rb"));
+    if (!file) {
+        const int error = errno;
+        ::close(fd);
+        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(error));
+    }
+    if (size) *size = int64_t(info.st_size);
+    return file;
+}
+
 Result<FileReader> FileReader::open(const std::string& path) {
     FileReader reader;
     reader.m_path = path;
-    reader.m_file.reset(std::fopen(path.c_str(), "rb"));
-    if (!reader.m_file)
-        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(errno));
-    struct stat info {};
-    if (::fstat(::fileno(reader.m_file.get()), &info) != 0)
-        return makeError(ErrorKind::Io, "{}: cannot open: {}", path, std::strerror(errno));
-    if (S_ISDIR(info.st_mode))
-        return makeError(ErrorKind::Io, "{}: cannot open: is a directory, not an image file", path);
-    // Pipes and devices have no size and may block forever; every format here needs a size.
-    if (!S_ISREG(info.st_mode))
-        return makeError(ErrorKind::Io, "{}: cannot open: not a regular file", path);
-    reader.m_size = int64_t(info.st_size);
+    auto file = openRegularFile(path, "an image file", &reader.m_size);
+    if (!file) return file.error();
+    reader.m_file = std::move(*file);
     reader.readHead();
     if (!reader.seek(0)) return makeError(ErrorKind::Io, "{}: cannot read", path);
     return reader;

@@ -13,9 +13,20 @@
 #include <new>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace relief {
+
+// Every input file is opened here: open(2) with O_NONBLOCK (a FIFO without a writer would block
+// in open itself), then its type checked before a byte is read. `what` names the expected content
+// in messages ("an image file", "a ray file"). The stream returned blocks again as usual.
+struct FileCloser {
+    void operator()(std::FILE* file) const { std::fclose(file); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+Result<FilePtr> openRegularFile(const std::string& path, std::string_view what,
+                                int64_t* size = nullptr);
 
 // An opened regular file with its size and its first bytes (enough for every format's magic and
 // a PFM header). The read position starts at 0.
@@ -37,11 +48,8 @@ public:
 private:
     void readHead();
 
-    struct Closer {
-        void operator()(std::FILE* file) const { std::fclose(file); }
-    };
     std::string m_path;
-    std::unique_ptr<std::FILE, Closer> m_file;
+    FilePtr m_file;
     int64_t m_size = 0;
     std::array<unsigned char, 128> m_head{};
     size_t m_headSize = 0;

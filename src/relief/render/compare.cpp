@@ -10,7 +10,7 @@ namespace relief {
 
 ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference) {
     ErrorStats stats;
-    std::vector<double> errors, steps, fetches;
+    std::vector<double> errors, steps, coveredSteps, fetches;
     for (size_t k = 0; k < hits.pixels.size(); ++k) {
         const Hit& h = hits.pixels[k];
         const Hit& r = reference.pixels[k];
@@ -18,6 +18,11 @@ ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference) {
         stats.hits += h.hit;
         steps.push_back(h.steps);
         fetches.push_back(h.fetches);
+        if (h.hit || r.hit) {
+            ++stats.covered;
+            coveredSteps.push_back(h.steps);
+        }
+        stats.bothHit += h.hit && r.hit;
         if (h.hit != r.hit) {
             ++stats.wrong;
             continue;
@@ -29,6 +34,7 @@ ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference) {
     }
     stats.error = summarize(std::move(errors));
     stats.steps = summarize(std::move(steps));
+    stats.coveredSteps = summarize(std::move(coveredSteps));
     stats.fetches = summarize(std::move(fetches));
     return stats;
 }

@@ -11,14 +11,21 @@ namespace relief {
 // A pixel is wrong when hit/miss differs or |Δt| > kWrongHitDistance texels.
 inline constexpr float kWrongHitDistance = 0.5f;
 
+// The bench's columns are over every pixel (kept as they were); the render summary is over the
+// covered pixels, where the reference or the technique hits: in the default framing the relief
+// fills about a third of the image, and background pixels would dilute every rate.
 struct ErrorStats {
     size_t pixels = 0;
     size_t hits = 0;        // pixels the technique hit
-    size_t wrong = 0;       // wrong-hit pixels
+    size_t covered = 0;     // pixels the technique or the reference hit
+    size_t bothHit = 0;     // pixels both hit: the denominator of `error`
+    size_t wrong = 0;       // wrong-hit pixels (all of them covered)
     Summary error;          // |t − t_ref| over pixels where both hit
     Summary steps;          // per pixel (all pixels)
+    Summary coveredSteps;   // per covered pixel
     Summary fetches;
     double wrongRate() const { return pixels ? double(wrong) / double(pixels) : 0.0; }
+    double coveredWrongRate() const { return covered ? double(wrong) / double(covered) : 0.0; }
 };
 
 ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference);

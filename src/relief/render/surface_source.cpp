@@ -41,7 +41,8 @@ Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions&
     load.maxSamples = o.maxSamples;
     if (!o.heightRange.empty()) {
         double lo = 0, hi = 0;
-        if (std::sscanf(o.heightRange.c_str(), "%lf:%lf", &lo, &hi) != 2 || !(lo < hi) ||
+        char extra = 0;  // "0:1:2" is not a range
+        if (std::sscanf(o.heightRange.c_str(), "%lf:%lf%c", &lo, &hi, &extra) != 2 || !(lo < hi) ||
             !std::isfinite(lo) || !std::isfinite(hi))
             return makeError(ErrorKind::BadArgument, "--height-range '{}': expected LO:HI with LO < HI",
                              o.heightRange);

@@ -1,8 +1,8 @@
 #include <relief/surface/surface.h>
 
-#include <cmath>
-
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace relief {
 
@@ -85,6 +85,8 @@ RayInterval Surface::clip(const Ray& ray) const {
     const bool finite = std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z) &&
                         std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
     if (!finite || (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) || !(ray.tMax > 0.0f)) return RayInterval{};
+    if (std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)}) > kMaxOriginCoordinate)
+        return RayInterval{};
     bool inside = clipSlab(o.z, d.z, 0.0f, m_depth, r.tEnter, r.tExit);
     if (m_edge == EdgeMode::Clamp) {
         inside = inside && clipSlab(o.x, d.x, 0.0f, float(m_width), r.tEnter, r.tExit) &&
@@ -98,6 +100,43 @@ RayInterval Surface::clip(const Ray& ray) const {
     if (d.z > 0.0f) r.tExit = std::min(r.tExit, std::max(r.tEnter, (m_maxZ - o.z) / d.z));
     if (!inside) return RayInterval{};
     return r;
+}
+
+Ray Surface::nearBox(const Ray& ray, double& offset) const {
+    offset = 0.0;
+    const dvec3 o(ray.origin), d(ray.direction);
+    const double lo[3] = {0.0, 0.0, 0.0};
+    const double hi[3] = {double(m_width), double(m_height), double(m_depth)};
+    const double size = std::max({hi[0], hi[1], hi[2], 1.0});
+    const bool repeat = m_edge == EdgeMode::Repeat;
+    double outside = 0.0;
+    for (int a = 0; a < 3; ++a) outside = std::max({outside, lo[a] - o[a], o[a] - hi[a]});
+    if (!(outside > kNearBoxFactor * size)) return ray;  // near, or not a number: clip decides
+    double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+    for (int a = repeat ? 2 : 0; a < 3; ++a) {
+        if (d[a] == 0.0) {
+            if (o[a] < lo[a] || o[a] > hi[a]) t1 = -1.0;
+            continue;
+        }
+        double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    Ray moved = ray;
+    if (!(t0 <= t1) || !(t0 < double(ray.tMax))) {
+        moved.tMax = 0.0f;
+        return moved;
+    }
+    // Stop a box size short of the entry: clip() then finds the entry itself, in float.
+    const double start = std::max(0.0, t0 - size);
+    dvec3 p = o + start * d;
+    if (repeat)
+        for (int a = 0; a < 2; ++a) p[a] -= std::floor(p[a] / hi[a]) * hi[a];
+    moved.origin = vec3(p);
+    moved.tMax = float(double(ray.tMax) - start);
+    offset = start;
+    return moved;
 }
 
 }  // namespace relief

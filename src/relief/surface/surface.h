@@ -108,6 +108,17 @@ public:
 
     RayInterval clip(const Ray& ray) const;
 
+    // Float tracers lose the ray when its origin is far from the box (1e12 texels away a float
+    // step is 65536 texels). Beyond kNearBoxFactor·max(W, H, D) outside the box, the ray is moved
+    // in double precision to just before where it enters the box (repeat: its z slab, and x, y
+    // wrapped by whole periods); `offset` is how far it moved, to add to the hit's t. A ray that
+    // misses the box comes back with tMax 0 (clip: empty); a near one comes back as it is.
+    static constexpr double kNearBoxFactor = 4.0;
+    Ray nearBox(const Ray& ray, double& offset) const;
+    // clip() misses rays whose origin is beyond this (float ulp 32 texels): nothing traced from
+    // there lands inside the box reliably; nearBox() them first.
+    static constexpr float kMaxOriginCoordinate = float(1 << 28);
+
     // Cell index containing coordinate x (cells start at k+0.5), clamped to the valid range.
     int cellOfX(float x) const { return clampCellX(int(std::floor(x - 0.5f))); }
     int cellOfY(float y) const { return clampCellY(int(std::floor(y - 0.5f))); }

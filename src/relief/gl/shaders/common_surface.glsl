@@ -116,6 +116,7 @@ RayInterval clip(Ray ray) {
     RayInterval r = RayInterval(0.0, ray.tMax);
     const vec3 o = ray.origin;
     const vec3 d = ray.direction;
+    if (max(max(abs(o.x), abs(o.y)), abs(o.z)) > kMaxOriginCoordinate) return RayInterval(0.0, -1.0);
     bool inside = clipSlab(o.z, d.z, 0.0, depth(), r.tEnter, r.tExit);
     if (edge() == kEdgeClamp) {
         inside = inside && clipSlab(o.x, d.x, 0.0, float(width()), r.tEnter, r.tExit) &&

@@ -67,7 +67,7 @@ inline Hit LinearTracer::trace(const Ray& ray) const {
 
 namespace relief {
 inline constexpr ParamSpec kLinearParams[] = {
-    {"max-steps", 32, 1, 1 << 20, true, "linear search steps N", ParamRole::IterationCap},
+    {"max-steps", 32, 1, 65536, true, "linear search steps N", ParamRole::IterationCap},
     {"binary-steps", 8, 0, 64, true, "binary refinement steps M"},
 };
 Result<std::unique_ptr<Tracer>> createLinear(const TechniqueInput& input);

@@ -108,7 +108,7 @@ inline Hit RelaxedConeTracer::refine(const Ray& ray, float lo, float hi, float t
 }
 
 inline constexpr ParamSpec kRelaxedConeParams[] = {
-    {"max-steps", 15, 1, 1e9, true, "relaxed cone steps (GPU Gems 3 listing: 15)",
+    {"max-steps", 15, 1, 4096, true, "relaxed cone steps (GPU Gems 3 listing: 15)",
      ParamRole::IterationCap},
     {"binary-steps", 8, 0, 64, true, "binary refinement steps"},
     {"variant", 0, 0, 1, true,
