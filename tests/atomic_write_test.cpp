@@ -3,6 +3,7 @@
 #include <relief/io/image_write.h>
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,12 +42,14 @@ TEST(AtomicWrite, FailedWriteKeepsOldFileAndLeavesNoTemp) {
 }
 
 TEST(AtomicWrite, SignalDuringWriteLeavesNoPartialOutput) {
-    for (int signal : {SIGINT, SIGTERM}) {
+    for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2}) {
         const fs::path dir = freshFolder("signal");
         ASSERT_TRUE(writeTextFile((dir / "out.txt").string(), "old").ok());
         const pid_t child = fork();
         ASSERT_GE(child, 0);
         if (child == 0) {
+            const rlimit noCore{0, 0};  // SIGQUIT would dump core into the working folder
+            setrlimit(RLIMIT_CORE, &noCore);
             (void)writeAtomically((dir / "out.txt").string(), [signal](const std::string& temp) -> Status {
                 std::ofstream(temp) << "half written";
                 ::raise(signal);
