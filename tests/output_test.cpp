@@ -1,10 +1,9 @@
 // The output mechanism (io/output.h): what is at the path decides how it is written, several
 // outputs are one transaction, temp files never accumulate, every write error names the path.
-#include <relief/io/image_write.h>
-#include <relief/io/output.h>
-
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <relief/io/image_write.h>
+#include <relief/io/output.h>
 #include <sys/file.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -27,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 
 class Output : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
         const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
         m_dir = fs::temp_directory_path() /
@@ -37,6 +36,7 @@ protected:
     }
     void TearDown() override {
         setWriteFaultHookForTesting(nullptr);
+        setAnonymousTempsForTesting(true);
         fs::remove_all(m_dir);
     }
     std::string path(const std::string& name) const { return (m_dir / name).string(); }
@@ -47,7 +47,8 @@ protected:
     // Names in the folder, to check that no temp file is left.
     std::vector<std::string> entries() const {
         std::vector<std::string> names;
-        for (const auto& e : fs::directory_iterator(m_dir)) names.push_back(e.path().filename().string());
+        for (const auto& e : fs::directory_iterator(m_dir))
+            names.push_back(e.path().filename().string());
         std::sort(names.begin(), names.end());
         return names;
     }
@@ -150,12 +151,13 @@ TEST_F(Output, SeveralOutputsAreOneTransaction) {
         {
             OutputSet set;
             failThird(set);
-            const Status third = way == 0   ? set.addText(path("missing/c.txt"), "c")
-                                 : way == 1 ? set.addText(path("d"), "c")
-                                            : set.add(path("c.txt"), [](const std::string& temp) {
-                                                  std::ofstream(temp) << "half";
-                                                  return Status(makeError(ErrorKind::Io, "simulated"));
-                                              });
+            const Status third = way == 0 ? set.addText(path("missing/c.txt"), "c")
+                                 : way == 1
+                                     ? set.addText(path("d"), "c")
+                                     : set.add(path("c.txt"), [](const std::string& temp) {
+                                           std::ofstream(temp) << "half";
+                                           return Status(makeError(ErrorKind::Io, "simulated"));
+                                       });
             EXPECT_FALSE(third.ok());
             EXPECT_FALSE(set.commit().ok());  // a failed set writes nothing
         }
@@ -198,11 +200,13 @@ TEST_F(Output, FullDiskIsReportedWithThePath) {
     // An injected failure stands in for a full disk: no test writes to a system device.
     std::ofstream(path("a.txt")) << "old";
     std::ofstream(path("b.png")) << "old";
-    setWriteFaultHookForTesting([&](const std::string& p) { return p == path("b.png") ? ENOSPC : 0; });
+    setWriteFaultHookForTesting(
+        [&](const std::string& p) { return p == path("b.png") ? ENOSPC : 0; });
     OutputSet set;
     ASSERT_TRUE(set.addText(path("a.txt"), "new").ok());
     const Status png = writePng(set, path("b.png"), ImageRgb8(4, 4));
-    EXPECT_TRUE(mentions(png, path("b.png") + ": write failed: No space left on device")) << png.error().message;
+    EXPECT_TRUE(mentions(png, path("b.png") + ": write failed: No space left on device"))
+        << png.error().message;
     EXPECT_FALSE(set.commit().ok());
     setWriteFaultHookForTesting([](const std::string&) { return ENOSPC; });
     EXPECT_TRUE(mentions(writeTextFile(path("a.txt"), "new"), "No space left on device"));
@@ -240,24 +244,59 @@ TEST_F(Output, StaleTempFilesAreRemovedLiveOnesKept) {
 }
 
 TEST_F(Output, KilledWriterLeavesNothingTheNextRunKeeps) {
-    std::ofstream(path("a.txt")) << "old";
-    const pid_t child = fork();
-    ASSERT_GE(child, 0);
-    if (child == 0) {
-        (void)writeAtomically(path("a.txt"), [](const std::string& temp) -> Status {
-            std::ofstream(temp) << "half";
-            ::raise(SIGKILL);  // cannot be caught: no cleanup runs
-            return {};
-        });
-        _exit(0);
+    for (const bool anonymous : {true, false}) {
+        SCOPED_TRACE(anonymous ? "anonymous temps" : "named temps");
+        std::ofstream(path("a.txt")) << "old";
+        const pid_t child = fork();
+        ASSERT_GE(child, 0);
+        if (child == 0) {
+            setAnonymousTempsForTesting(anonymous);
+            (void)writeAtomically(path("a.txt"), [](const std::string& temp) -> Status {
+                std::ofstream(temp) << "half";
+                ::raise(SIGKILL);  // cannot be caught: no cleanup runs
+                return {};
+            });
+            _exit(0);
+        }
+        int status = 0;
+        waitpid(child, &status, 0);
+        ASSERT_TRUE(WIFSIGNALED(status));
+        EXPECT_EQ(contents(path("a.txt")), "old");
+        EXPECT_EQ(entries().size(), anonymous ? 1u : 2u) << "a named temp stays until the next run";
+        // The next output into the folder (this process's first there) removes it.
+        const std::string next = path("sub" + std::to_string(anonymous));
+        fs::create_directories(next);
+        fs::rename(path("a.txt"), next + "/a.txt");
+        for (const auto& e : fs::directory_iterator(m_dir))
+            if (e.path().filename().string().rfind(kTempPrefix, 0) == 0)
+                fs::rename(e.path(), next / e.path().filename());
+        ASSERT_TRUE(writeTextFile(next + "/b.txt", "b").ok());
+        EXPECT_EQ(std::distance(fs::directory_iterator(next), fs::directory_iterator()), 2);
+        fs::remove_all(next);
     }
-    int status = 0;
-    waitpid(child, &status, 0);
-    ASSERT_TRUE(WIFSIGNALED(status));
-    EXPECT_EQ(contents(path("a.txt")), "old");
-    // An anonymous temp leaves nothing; a named one is removed by the next output here.
-    ASSERT_TRUE(writeTextFile(path("b.txt"), "b").ok());
-    EXPECT_EQ(entries(), (Names{"a.txt", "b.txt"}));
+}
+
+TEST_F(Output, NamedTempsWorkAndLeaveNothing) {
+    setAnonymousTempsForTesting(false);
+    std::ofstream(path("a.txt")) << "old";
+    ::chmod(path("a.txt").c_str(), 0600);
+    {
+        OutputSet set;
+        ASSERT_TRUE(set.addText(path("a.txt"), "new").ok());
+        ASSERT_TRUE(
+            writePng(set, path(std::string(NAME_MAX - 4, 'n') + ".png"), ImageRgb8(2, 2)).ok());
+        EXPECT_EQ(entries().size(), 3u) << "two named temps and the old file";
+        ASSERT_TRUE(set.commit().ok());
+    }
+    {
+        OutputSet set;
+        ASSERT_TRUE(set.addText(path("a.txt"), "newer").ok());
+        EXPECT_FALSE(set.addText(path("missing/b.txt"), "b").ok());
+    }
+    setAnonymousTempsForTesting(true);
+    EXPECT_EQ(contents(path("a.txt")), "new");
+    EXPECT_EQ(fs::status(path("a.txt")).permissions(), fs::perms(0600));
+    EXPECT_EQ(entries(), (Names{"a.txt", std::string(NAME_MAX - 4, 'n') + ".png"}));
 }
 
 TEST_F(Output, DevicesAreStreamedNotReplaced) {

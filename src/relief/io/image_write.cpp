@@ -1,10 +1,9 @@
-#include <relief/io/image_write.h>
-
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfOutputFile.h>
 #include <png.h>
+#include <relief/io/image_write.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -56,9 +55,12 @@ Status writeExr(const std::string& path, const ImageF& image) {
 Status writePng(OutputSet& outputs, const std::string& path, const ImageRgb8& image) {
     return outputs.add(path, [&](const std::string& temp) -> Status {
         FILE* file = std::fopen(temp.c_str(), "wb");
-        if (!file) return makeError(ErrorKind::Io, "{}: cannot open for writing: {}", path, std::strerror(errno));
+        if (!file)
+            return makeError(ErrorKind::Io, "{}: cannot open for writing: {}", path,
+                             std::strerror(errno));
         PngErrors errors;
-        png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &errors, pngError, pngWarning);
+        png_structp png =
+            png_create_write_struct(PNG_LIBPNG_VER_STRING, &errors, pngError, pngWarning);
         png_infop info = png ? png_create_info_struct(png) : nullptr;
         if (!png || !info || setjmp(png_jmpbuf(png))) {
             const int error = errno;

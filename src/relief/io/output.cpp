@@ -1,8 +1,7 @@
-#include <relief/io/output.h>
-
 #include <dirent.h>
 #include <fcntl.h>
 #include <pthread.h>
+#include <relief/io/output.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -40,7 +39,8 @@ extern "C" void removeTempFilesAndRaise(int signal) {
 void installSignalCleanup() {
     static const bool installed = [] {
         for (int signal : kCleanupSignals) {
-            struct sigaction action {}, old {};
+            struct sigaction action {
+            }, old{};
             action.sa_handler = removeTempFilesAndRaise;
             sigemptyset(&action.sa_mask);
             sigaction(signal, &action, &old);
@@ -77,7 +77,7 @@ Error ioError(const std::string& path, const std::string& what, int error) {
 // SIGPIPE blocked while writing to a stream, so a reader that closed early is EPIPE (an error
 // with the path) and not the end of the process.
 class SigpipeBlock {
-public:
+  public:
     SigpipeBlock() {
         sigemptyset(&m_pipe);
         sigaddset(&m_pipe, SIGPIPE);
@@ -93,7 +93,7 @@ public:
         pthread_sigmask(SIG_SETMASK, &m_old, nullptr);
     }
 
-private:
+  private:
     sigset_t m_pipe, m_old;
 };
 
@@ -245,12 +245,14 @@ namespace {
 Status createNamedTemp(OutputSet::Entry& e, const std::string& folder, mode_t mode) {
     for (int attempt = 0; attempt < 100; ++attempt) {
         const std::string name = (fs::path(folder) / randomName()).string();
-        const int fd = ::open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, mode);
+        const int fd =
+            ::open(name.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, mode);
         if (fd < 0 && errno == EEXIST) continue;
         if (fd < 0) return ioError(e.path, "cannot create a temp file in '" + folder + "'", errno);
         e.fd = fd;
         e.setTempName(name);
-        struct stat mine {}, there {};
+        struct stat mine {
+        }, there{};
         // A cleaner in another process may have taken it between open and flock: start again.
         if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::fstat(fd, &mine) == 0 &&
             ::stat(name.c_str(), &there) == 0 && mine.st_ino == there.st_ino &&
@@ -263,10 +265,13 @@ Status createNamedTemp(OutputSet::Entry& e, const std::string& folder, mode_t mo
     return makeError(ErrorKind::Io, "{}: cannot create a temp file in '{}'", e.path, folder);
 }
 
+std::atomic<bool> gAnonymousTemps{true};
+
 Status createTemp(OutputSet::Entry& e, const std::string& folder, mode_t mode) {
     cleanFolderOnce(folder);
 #ifdef O_TMPFILE
-    const int fd = ::open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, mode);
+    const int fd =
+        gAnonymousTemps ? ::open(folder.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, mode) : -1;
     if (fd >= 0) {
         if (::access(procPath(fd).c_str(), W_OK) == 0) {
             ::flock(fd, LOCK_EX);
@@ -310,11 +315,13 @@ Status renameIntoPlace(OutputSet::Entry& e) {
         const std::string folder = folderOf(e.target.path);
         for (int attempt = 0;; ++attempt) {
             const std::string name = (fs::path(folder) / randomName()).string();
-            if (::linkat(AT_FDCWD, procPath(e.fd).c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+            if (::linkat(AT_FDCWD, procPath(e.fd).c_str(), AT_FDCWD, name.c_str(),
+                         AT_SYMLINK_FOLLOW) == 0) {
                 e.setTempName(name);
                 break;
             }
-            if (errno != EEXIST || attempt > 100) return ioError(e.path, "cannot link its temp file", errno);
+            if (errno != EEXIST || attempt > 100)
+                return ioError(e.path, "cannot link its temp file", errno);
         }
     }
     if (::rename(e.tempName.c_str(), e.target.path.c_str()) != 0)
@@ -339,27 +346,32 @@ Status OutputSet::add(const std::string& path,
             const bool same = target->kind != o.kind || target->kind == Kind::Stream ? false
                               : target->kind == Kind::Stdout
                                   ? true
-                                  : o.path == target->path ||
-                                        (target->exists && o.exists && o.st.st_ino == target->st.st_ino &&
-                                         o.st.st_dev == target->st.st_dev);
+                                  : o.path == target->path || (target->exists && o.exists &&
+                                                               o.st.st_ino == target->st.st_ino &&
+                                                               o.st.st_dev == target->st.st_dev);
             if (same)
-                return makeError(ErrorKind::BadArgument, "{}: given for two outputs of one command", path);
+                return makeError(ErrorKind::BadArgument, "{}: given for two outputs of one command",
+                                 path);
         }
         auto e = std::make_unique<Entry>();
         e->path = path == "-" ? std::string("stdout") : path;
         e->target = *target;
         const bool replace = target->kind == Kind::Replace;
-        const std::string folder = replace ? folderOf(target->path) : fs::temp_directory_path().string();
+        const std::string folder =
+            replace ? folderOf(target->path) : fs::temp_directory_path().string();
         // Written as 0600 (a read-only old file must not stop the writer), given its mode after.
         if (Status made = createTemp(*e, folder, 0600); !made) return made;
         const std::string writePath = e->anonymous ? procPath(e->fd) : e->tempName;
         if (Status written = write(writePath); !written) return written;
-        if (const int fault = injectedFault(e->path)) return ioError(e->path, "write failed", fault);
+        if (const int fault = injectedFault(e->path))
+            return ioError(e->path, "write failed", fault);
         if (replace && target->exists) {
             // Keep the owner where allowed (root), then the mode (fchown may clear set-id bits).
-            if (::fchown(e->fd, target->st.st_uid, target->st.st_gid) != 0) { /* not ours to give */ }
+            if (::fchown(e->fd, target->st.st_uid, target->st.st_gid) != 0) { /* not ours to give */
+            }
         }
-        const mode_t mode = target->exists ? (target->st.st_mode & 07777) : (0666 & ~processUmask());
+        const mode_t mode =
+            target->exists ? (target->st.st_mode & 07777) : (0666 & ~processUmask());
         if (replace && ::fchmod(e->fd, mode) != 0)
             return ioError(e->path, "cannot set the mode of its temp file", errno);
         if (replace && ::fsync(e->fd) != 0) return ioError(e->path, "write failed", errno);
@@ -382,7 +394,8 @@ Status OutputSet::addText(const std::string& path, std::string_view text) {
 
 Status OutputSet::commit() {
     if (m_failed || m_committed)
-        return makeError(ErrorKind::Io, "outputs not written: {}", m_failed ? "one of them failed" : "already committed");
+        return makeError(ErrorKind::Io, "outputs not written: {}",
+                         m_failed ? "one of them failed" : "already committed");
     m_committed = true;
     // Streams first: they cannot be taken back, and a failed one leaves every file untouched.
     for (auto& e : m_entries)
@@ -394,6 +407,8 @@ Status OutputSet::commit() {
     m_entries.clear();
     return {};
 }
+
+void setAnonymousTempsForTesting(bool allowed) { gAnonymousTemps = allowed; }
 
 void setWriteFaultHookForTesting(WriteFaultHook hook) {
     std::lock_guard lock(gHookMutex);
@@ -425,10 +440,12 @@ int removeStaleTempFiles(const std::string& folder) {
         const std::string name = (fs::path(folder) / entry->d_name).string();
         const int fd = ::open(name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
         if (fd < 0) continue;
-        struct stat mine {}, there {};
+        struct stat mine {
+        }, there{};
         // The lock is free only when the process that made the file is gone.
-        if (::fstat(fd, &mine) == 0 && S_ISREG(mine.st_mode) && ::flock(fd, LOCK_EX | LOCK_NB) == 0 &&
-            ::stat(name.c_str(), &there) == 0 && mine.st_ino == there.st_ino && ::unlink(name.c_str()) == 0)
+        if (::fstat(fd, &mine) == 0 && S_ISREG(mine.st_mode) &&
+            ::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::stat(name.c_str(), &there) == 0 &&
+            mine.st_ino == there.st_ino && ::unlink(name.c_str()) == 0)
             ++removed;
         ::close(fd);
     }

@@ -19,7 +19,7 @@ namespace relief {
 inline constexpr std::string_view kTempPrefix = ".relief-tmp-";
 
 class OutputSet {
-public:
+  public:
     OutputSet();
     ~OutputSet();  // a set not committed removes its temps: nothing is written
     OutputSet(const OutputSet&) = delete;
@@ -36,7 +36,7 @@ public:
 
     struct Entry;
 
-private:
+  private:
     std::vector<std::unique_ptr<Entry>> m_entries;
     bool m_failed = false;
     bool m_committed = false;
@@ -46,6 +46,9 @@ private:
 // filled; a nonzero return is taken as that errno.
 using WriteFaultHook = std::function<int(const std::string& path)>;
 void setWriteFaultHookForTesting(WriteFaultHook hook);
+
+// For tests: false makes every temp a named one, as on a filesystem without O_TMPFILE.
+void setAnonymousTempsForTesting(bool allowed);
 
 // Flushes std::cout and stdout; an earlier or final write error (a closed stdout, a full disk, a
 // closed pipe) is reported as "stdout: ...".
