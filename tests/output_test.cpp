@@ -179,6 +179,9 @@ TEST_F(Output, OnePathTwiceInOneSetIsRefused) {
     fs::create_symlink("a.txt", m_dir / "l.txt");
     EXPECT_TRUE(mentions(set.addText(path("a.txt"), "2"), "given for two outputs"));
     EXPECT_TRUE(mentions(set.addText(path("l.txt"), "2"), "given for two outputs"));
+    ASSERT_TRUE(set.addText(path("new.txt"), "1").ok());
+    fs::create_directories(m_dir / "d");
+    EXPECT_TRUE(mentions(set.addText(path("d/../new.txt"), "2"), "given for two outputs"));
 }
 
 TEST_F(Output, FailedStreamLeavesTheFilesUntouched) {

@@ -212,6 +212,12 @@ Result<Target> classify(const std::string& path) {
     return makeError(ErrorKind::Io, "{}: too many levels of symbolic links", path);
 }
 
+// "a.png", "./a.png" and "sub/../a.png" are one place (for files that do not exist yet).
+bool samePlace(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    return fs::absolute(a, ec).lexically_normal() == fs::absolute(b, ec).lexically_normal();
+}
+
 }  // namespace
 
 struct OutputSet::Entry {
@@ -343,12 +349,13 @@ Status OutputSet::add(const std::string& path,
         for (const auto& other : m_entries) {
             const Target& o = other->target;
             // Two files at one place would race; one device (/dev/null twice) is fine.
-            const bool same = target->kind != o.kind || target->kind == Kind::Stream ? false
-                              : target->kind == Kind::Stdout
-                                  ? true
-                                  : o.path == target->path || (target->exists && o.exists &&
-                                                               o.st.st_ino == target->st.st_ino &&
-                                                               o.st.st_dev == target->st.st_dev);
+            const bool same =
+                target->kind != o.kind || target->kind == Kind::Stream ? false
+                : target->kind == Kind::Stdout
+                    ? true
+                    : samePlace(o.path, target->path) ||
+                          (target->exists && o.exists && o.st.st_ino == target->st.st_ino &&
+                           o.st.st_dev == target->st.st_dev);
             if (same)
                 return makeError(ErrorKind::BadArgument, "{}: given for two outputs of one command",
                                  path);
