@@ -424,7 +424,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
     cmd->add_option("--normal", o->normalPath, "tangent-space normal map (PNG/JPEG)");
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
-    cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique");
+    cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique ('-' = stdout)");
     cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
     cmd->add_option("--depth-out", o->depthOut, "t per pixel as OpenEXR (single technique)");
     cmd->add_option("--steps-out", o->stepsOut, "steps heatmap PNG with colour bar (single technique)");
