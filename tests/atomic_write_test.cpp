@@ -3,6 +3,7 @@
 #include <relief/io/image_write.h>
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -41,12 +42,16 @@ TEST(AtomicWrite, FailedWriteKeepsOldFileAndLeavesNoTemp) {
 }
 
 TEST(AtomicWrite, SignalDuringWriteLeavesNoPartialOutput) {
-    for (int signal : {SIGINT, SIGTERM}) {
+    for (const bool anonymous : {true, false})  // named temps: a filesystem without O_TMPFILE
+    for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2}) {
         const fs::path dir = freshFolder("signal");
         ASSERT_TRUE(writeTextFile((dir / "out.txt").string(), "old").ok());
         const pid_t child = fork();
         ASSERT_GE(child, 0);
         if (child == 0) {
+            const rlimit noCore{0, 0};  // SIGQUIT would dump core into the working folder
+            setrlimit(RLIMIT_CORE, &noCore);
+            setAnonymousTempsForTesting(anonymous);
             (void)writeAtomically((dir / "out.txt").string(), [signal](const std::string& temp) -> Status {
                 std::ofstream(temp) << "half written";
                 ::raise(signal);
@@ -56,7 +61,7 @@ TEST(AtomicWrite, SignalDuringWriteLeavesNoPartialOutput) {
         }
         int status = 0;
         waitpid(child, &status, 0);
-        EXPECT_TRUE(WIFSIGNALED(status)) << "signal " << signal;
+        EXPECT_TRUE(WIFSIGNALED(status)) << "signal " << signal << (anonymous ? "" : " (named)");
         EXPECT_EQ(contents(dir / "out.txt"), "old");
         EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1)
             << "a temp file was left behind";

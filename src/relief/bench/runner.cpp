@@ -439,38 +439,42 @@ private:
                                      {"machine", cpuModelName()},
                                      {"gl_device", m_glDevice},
                                      {"date", timings ? todayUtc() : std::string("-")}};
-        writeFile("results.json", resultsJson(m_rows, meta, timings));
-        writeFile("results.csv", resultsCsv(m_rows, timings));
+        // The report's files are one transaction: a failure leaves the previous report whole.
+        OutputSet outputs;
+        writeFile(outputs, "results.json", resultsJson(m_rows, meta, timings));
+        writeFile(outputs, "results.csv", resultsCsv(m_rows, timings));
         const auto [errorPlot, stepsPlot] = benchPlots(m_rows, m_config);
-        writeFile("error_vs_cap.svg", errorPlot);
-        writeFile("steps_vs_elevation.svg", stepsPlot);
-        if (m_config.kind == StudyKind::Scaling) writeFile(kScalingPlotName, scalingPlot(m_rows, m_config));
+        writeFile(outputs, "error_vs_cap.svg", errorPlot);
+        writeFile(outputs, "steps_vs_elevation.svg", stepsPlot);
+        if (m_config.kind == StudyKind::Scaling)
+            writeFile(outputs, kScalingPlotName, scalingPlot(m_rows, m_config));
         BenchMeta report{m_o.preset, meta["machine"], meta["image_size"], meta["date"], m_glDevice,
                          commandLine(m_o), "", "", ThreadLimit::current(), timings};
         if (timings) {
             report.loadBefore = m_loadBefore;
             report.loadAfter = loadAverage();
         }
-        writeFile("index.html", benchHtml(m_rows, m_config, report));
-        writeFile("report.md", benchMarkdown(m_rows, m_config, report, ""));
-        if (!m_o.markdownPath.empty()) writeMarkdownCopy(report);
+        writeFile(outputs, "index.html", benchHtml(m_rows, m_config, report));
+        writeFile(outputs, "report.md", benchMarkdown(m_rows, m_config, report, ""));
+        if (!m_o.markdownPath.empty()) writeMarkdownCopy(outputs, report);
+        orFail(outputs.commit());
         if (Progress::quiet()) return;  // -q: errors only
+        if (!m_o.markdownPath.empty()) std::cout << "wrote " << m_o.markdownPath << "\n";
         if (!m_glDevice.empty()) std::cout << "GL: " << m_glDevice << "\n";
         std::cout << fmt::format("\nwrote {0}/index.html, {0}/report.md, results.csv, results.json\n", m_o.outDir);
     }
 
     // The same report elsewhere (e.g. docs/benchmarks.md), its plot links rewritten to point
     // into the output folder.
-    void writeMarkdownCopy(const BenchMeta& report) const {
+    void writeMarkdownCopy(OutputSet& outputs, const BenchMeta& report) const {
         const fs::path target = fs::absolute(m_o.markdownPath);
         std::string prefix = fs::relative(fs::absolute(m_o.outDir), target.parent_path()).generic_string();
         prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
-        orFail(writeTextFile(m_o.markdownPath, benchMarkdown(m_rows, m_config, report, prefix)));
-        if (!Progress::quiet()) std::cout << "wrote " << m_o.markdownPath << "\n";
+        orFail(outputs.addText(m_o.markdownPath, benchMarkdown(m_rows, m_config, report, prefix)));
     }
 
-    void writeFile(const std::string& name, const std::string& text) const {
-        orFail(writeTextFile(m_o.outDir + "/" + name, text));
+    void writeFile(OutputSet& outputs, const std::string& name, const std::string& text) const {
+        orFail(outputs.addText(m_o.outDir + "/" + name, text));
     }
 
     // --judge: rows with the exact contract agree with the reference, and so do the CPU peers on

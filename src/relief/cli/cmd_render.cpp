@@ -86,12 +86,13 @@ Result<ivec2> parseImageSize(const std::string& text) {
     return ivec2(w, h);
 }
 
-void writeOutputs(const RenderOptions& o, const TechniqueRun& run, const std::string& colorPath,
-                  const std::string& stepsPath, const std::string& errorPath) {
-    if (!colorPath.empty()) orFail(writePng(colorPath, run.result.color));
-    if (!o.depthOut.empty()) orFail(writeExr(o.depthOut, depthValues(run.result.hits)));
-    if (!stepsPath.empty()) orFail(writePng(stepsPath, run.stepsImage(run)));
-    if (!errorPath.empty()) orFail(writePng(errorPath, run.errorImage(run)));
+void writeOutputs(OutputSet& outputs, const RenderOptions& o, const TechniqueRun& run,
+                  const std::string& colorPath, const std::string& stepsPath,
+                  const std::string& errorPath) {
+    if (!colorPath.empty()) orFail(writePng(outputs, colorPath, run.result.color));
+    if (!o.depthOut.empty()) orFail(writeExr(outputs, o.depthOut, depthValues(run.result.hits)));
+    if (!stepsPath.empty()) orFail(writePng(outputs, stepsPath, run.stepsImage(run)));
+    if (!errorPath.empty()) orFail(writePng(outputs, errorPath, run.errorImage(run)));
 }
 
 nlohmann::json curvesJson(const CurvesSummary& c) {
@@ -172,7 +173,8 @@ void printSummary(const RenderOptions& o, const std::vector<TechniqueRun>& runs,
 }
 
 // summary.md and summary.json beside the images, so a render folder explains itself.
-void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& runs) {
+void writeSummaryFiles(OutputSet& outputs, const RenderOptions& o,
+                       const std::vector<TechniqueRun>& runs) {
     for (const char* format : {"text", "json"}) {
         RenderOptions as = o;
         as.format = format;
@@ -183,7 +185,7 @@ void writeSummaryFiles(const RenderOptions& o, const std::vector<TechniqueRun>& 
                                 o.surface.source, o.baseSurface, o.view.elevationDeg,
                                 o.view.azimuthDeg, o.view.distance, o.view.fovDeg, o.size);
         printSummary(as, runs, text);
-        orFail(writeTextFile(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str()));
+        orFail(outputs.addText(o.outDir + (as.format == "text" ? "/summary.md" : "/summary.json"), text.str()));
     }
 }
 
@@ -393,6 +395,8 @@ void runRender(const RenderOptions& o) {
         auto exact = orFail(createTracer(referenceTechnique().name, surface));
         reference = tracePrimary(camera, *exact);
     }
+    // Every file of the command is one transaction: none is put in place unless all were written.
+    OutputSet outputs;
     std::vector<TechniqueRun> runs;
     for (size_t k = 0; k < names.size(); ++k) {
         const TechniqueInfo& info = *infos[k];
@@ -405,13 +409,16 @@ void runRender(const RenderOptions& o) {
             run = planeRun(info, *surface, camera, *tracers[k], shading, *reference);
         }
         const std::string prefix = o.outDir.empty() ? "" : o.outDir + "/" + names[k];
-        writeOutputs(o, run, many || o.output.empty() ? prefix + ".png" : o.output,
+        writeOutputs(outputs, o, run, many || o.output.empty() ? prefix + ".png" : o.output,
                      !o.stepsOut.empty() ? o.stepsOut : (prefix.empty() ? "" : prefix + "-steps.png"),
                      !o.errorOut.empty() ? o.errorOut : (prefix.empty() ? "" : prefix + "-error.png"));
         runs.push_back(std::move(run));
     }
-    if (!Progress::quiet()) printSummary(o, runs, std::cout);  // -q: errors only
-    if (!o.outDir.empty()) writeSummaryFiles(o, runs);
+    if (!o.outDir.empty()) writeSummaryFiles(outputs, o, runs);
+    orFail(outputs.commit());
+    // An image on stdout keeps stdout to itself: the summary goes to stderr then.
+    const bool imageOnStdout = o.output == "-" || o.depthOut == "-" || o.stepsOut == "-" || o.errorOut == "-";
+    if (!Progress::quiet()) printSummary(o, runs, imageOnStdout ? std::cerr : std::cout);  // -q: errors only
 }
 
 }  // namespace
@@ -433,7 +440,7 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
     cmd->add_option("--normal", o->normalPath, "tangent-space normal map (PNG/JPEG)");
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
-    cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique");
+    cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique ('-' = stdout)");
     cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
     cmd->add_option("--depth-out", o->depthOut, "t per pixel as OpenEXR (single technique)");
     cmd->add_option("--steps-out", o->stepsOut, "steps heatmap PNG with colour bar (single technique)");

@@ -1,7 +1,12 @@
 // relief <command> [options]: the command table. Each command lives in cmd_<name>.cpp.
 #include <relief/cli/common.h>
 #include <relief/core/progress.h>
+#include <relief/io/output.h>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
 #include <memory>
 
@@ -30,14 +35,19 @@ namespace relief::cli {
 int runCommandLine(int argc, char** argv) {
     CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
     addCommands(app);
+    // Output lost on a full disk, a closed pipe or a closed stdout is an I/O error, not exit 0.
+    const auto finish = [](int code) {
+        const Status flushed = flushStdout();
+        return code == 0 && !flushed ? report(flushed.error()) : code;
+    };
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
+        return finish(app.exit(e));
     } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
+        return finish(app.exit(e));
     } catch (const CLI::CallForVersion& e) {
-        return app.exit(e);
+        return finish(app.exit(e));
     } catch (const CLI::ParseError& e) {
         std::fprintf(stderr, "relief: error: %s\n", e.what());
         std::fprintf(stderr, "run 'relief --help' or 'relief COMMAND --help' for usage\n");
@@ -47,7 +57,7 @@ int runCommandLine(int argc, char** argv) {
     } catch (const std::bad_alloc&) {
         return report({relief::ErrorKind::Runtime, "out of memory"});
     }
-    return 0;
+    return finish(0);
 }
 
 }  // namespace relief::cli
@@ -55,5 +65,13 @@ int runCommandLine(int argc, char** argv) {
 // RELIEF_CLI_NO_MAIN: the CLI linked into another program (fuzz/fuzz_cli.cpp with libFuzzer's
 // main, the toy-technique test), which calls runCommandLine or addCommands itself.
 #ifndef RELIEF_CLI_NO_MAIN
-int main(int argc, char** argv) { return relief::cli::runCommandLine(argc, argv); }
+int main(int argc, char** argv) {
+    // A closed stdin/stdout/stderr must not be reused by the first file opened (an output's temp
+    // would receive the text meant for stdout): hold it with a descriptor that cannot be written.
+    for (int fd = 0; fd <= 2; ++fd)
+        if (::fcntl(fd, F_GETFD) == -1 && ::open("/dev/null", O_RDONLY) != fd) return 2;
+    // A reader that closed early is EPIPE, reported with the path, not a silent death.
+    std::signal(SIGPIPE, SIG_IGN);
+    return relief::cli::runCommandLine(argc, argv);
+}
 #endif

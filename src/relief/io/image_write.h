@@ -1,21 +1,24 @@
 #pragma once
-// Writing images. Every writer goes through a temporary file in the target folder and renames it
-// on success, so a failed or interrupted write leaves no partial file and the old one untouched.
+// Writing images and text through the one output mechanism (output.h): a regular file is replaced
+// atomically, a device / FIFO / "-" is streamed to, anything else is refused. The OutputSet
+// overloads add to one transaction; the others write one output on their own.
 #include <relief/core/error.h>
 #include <relief/core/image.h>
+#include <relief/io/output.h>
 
 #include <functional>
 #include <string>
 
 namespace relief {
 
+Status writePng(OutputSet& outputs, const std::string& path, const ImageRgb8& image);
+Status writeExr(OutputSet& outputs, const std::string& path, const ImageF& image);  // channel "Y"
 Status writePng(const std::string& path, const ImageRgb8& image);
-Status writeExr(const std::string& path, const ImageF& image);  // one float channel "Y"
+Status writeExr(const std::string& path, const ImageF& image);
 
-// Writes `text` to path through a temporary file.
 Status writeTextFile(const std::string& path, const std::string& text);
 
-// Runs `write(tempPath)` then renames tempPath to path; removes the temp file on failure.
+// Runs `write(tempPath)` into a temp file, then puts it in place (one output's transaction).
 Status writeAtomically(const std::string& path,
                        const std::function<Status(const std::string& tempPath)>& write);
 

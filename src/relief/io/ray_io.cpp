@@ -149,12 +149,7 @@ std::string formatHits(const std::vector<Hit>& hits) {
 }
 
 Status writeHits(const std::string& path, const std::vector<Hit>& hits) {
-    const std::string text = formatHits(hits);
-    if (path == "-") {
-        std::fwrite(text.data(), 1, text.size(), stdout);
-        return {};
-    }
-    return writeTextFile(path, text);
+    return writeTextFile(path, formatHits(hits));  // "-": stdout, through the same mechanism
 }
 
 }  // namespace relief
