@@ -3,6 +3,7 @@
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 
@@ -30,6 +31,8 @@ std::vector<const TechniqueInfo*> bakeable(const std::string& list) {
         if (comma == std::string::npos) comma = list.size();
         const std::string name = list.substr(start, comma - start);
         const TechniqueInfo* info = findTechnique(name);
+        if (info && std::find(infos.begin(), infos.end(), info) != infos.end())
+            throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: --maps names '{}' twice", name)};
         if (!info || !info->buildMaps)
             throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: '{}' has no maps to bake "
                                           "(techniques with maps: {})", name, known.empty() ? "none yet" : known)};
@@ -53,6 +56,13 @@ void runBake(const BakeOptions& o) {
         TechniqueInput input{surface, orFail(resolveParams(*info, overrides[k])), nullptr};
         const auto start = std::chrono::steady_clock::now();
         TechniqueMaps maps = orFail(info->buildMaps(input));
+        // A parameter the maps do not record cannot have changed them (the tracer reads it):
+        // accepting it would ignore it silently.
+        for (const auto& [name, value] : overrides[k])
+            if (!maps.parameters.count(name))
+                throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: {}: parameter '{}' does not "
+                                              "change the maps (the tracer reads it: give it to render or "
+                                              "trace)", info->name, name)};
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         size_t bytes = 0;
         for (const MapArray& a : maps.arrays) bytes += a.data.size() * sizeof(float);

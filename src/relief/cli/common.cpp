@@ -156,6 +156,9 @@ Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
     if (!info) return info.error();
     auto overrides = parameterOverrides(**info, o);
     if (!overrides) return overrides.error();
+    // Never accepted unread: the file would not even be opened.
+    if (!o.mapsPath.empty() && !(*info)->buildMaps)
+        return makeError(ErrorKind::Unsupported, "--maps: {} reads no maps", (*info)->name);
     return makeTracer(**info, *overrides, o.mapsPath,
                       backendOf(o), std::move(surface));
 }
