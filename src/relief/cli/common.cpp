@@ -139,6 +139,15 @@ Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo*
                              name, namesOf(infos));
         if (!used) result[0].emplace_back(name, value);  // resolveParams names the technique
     }
+    // Twice the same parameter (two --param, or --param and its role option): the last would win
+    // silently.
+    for (size_t k = 0; k < infos.size(); ++k)
+        for (size_t a = 0; a < result[k].size(); ++a)
+            for (size_t b = a + 1; b < result[k].size(); ++b)
+                if (result[k][a].first == result[k][b].first)
+                    return makeError(ErrorKind::BadArgument, "{}: parameter '{}' is given twice "
+                                     "(by --param or by the option of its role)", infos[k]->name,
+                                     result[k][a].first);
     return result;
 }
 
