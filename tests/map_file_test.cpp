@@ -2,6 +2,7 @@
 #include <relief/io/map_file.h>
 #include <relief/techniques/registry.h>
 
+#include "support/map_flip.h"
 #include "support/ray_sets.h"
 
 #include <ImfChannelList.h>
@@ -279,26 +280,6 @@ MapFile bakedFor(std::shared_ptr<const Surface> surface, const TechniqueInfo& in
     return file;
 }
 
-// Hits of `info` with these maps, or the error that refused them (techniqueInput runs the row's
-// check, which spot-checks the maps).
-Result<std::vector<Hit>> hitsWith(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
-                                  const MapFile& maps, std::span<const Ray> rays) {
-    auto input = techniqueInput(info, surface, {}, &maps, "edited.exr");
-    if (!input) return input.error();
-    auto tracer = info.create(*input);
-    if (!tracer) return tracer.error();
-    std::vector<Hit> hits(rays.size());
-    (*tracer)->traceBatch(rays, hits);
-    return hits;
-}
-
-bool sameHits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
-    for (size_t k = 0; k < a.size(); ++k)
-        if (a[k].hit != b[k].hit || (a[k].hit && (a[k].t != b[k].t || a[k].position != b[k].position)))
-            return false;
-    return true;
-}
-
 // Values edited by hand and written with a valid checksum: the spot checks refuse them, naming
 // the file and what failed.
 TEST(MapIntegrity, EditedValuesAreRefusedBySpotChecks) {
@@ -333,7 +314,7 @@ TEST(MapIntegrity, EditedValuesAreRefusedBySpotChecks) {
                         a.data[k] = a.data[k] * c.scale + c.offset;
         auto read = readMapFile(bytesOf(maps, "edited.exr"), "edited.exr");  // a valid checksum
         ASSERT_TRUE(read.ok()) << read.error().message;
-        auto hits = hitsWith(*info, surface, *read, {});
+        auto hits = testing::hitsWithMaps(*info, surface, *read, {});
         ASSERT_FALSE(hits.ok()) << c.technique << " accepted " << c.array << " edited";
         EXPECT_EQ(hits.error().kind, ErrorKind::InvalidInput);
         EXPECT_EQ(hits.error().message.rfind("edited.exr: ", 0), 0u) << hits.error().message;
@@ -352,20 +333,20 @@ TEST(MapIntegrity, EveryFlippedByteIsRefusedOrChangesNoHit) {
             if (!info.buildMaps) continue;
             const MapFile maps = bakedFor(surface, info);
             const Bytes bytes = bytesOf(maps, "mutate.exr");
-            auto reference = hitsWith(info, surface, maps, rays);
+            auto reference = testing::hitsWithMaps(info, surface, maps, rays);
             ASSERT_TRUE(reference.ok()) << info.name << ": " << reference.error().message;
             size_t refused = 0, accepted = 0;
             for (size_t k = 0; k < bytes.size(); k += edge == EdgeMode::Clamp ? 1 : 7) {
                 Bytes flipped = bytes;
                 flipped[k] ^= uint8_t(1u << (k % 8));
                 auto read = readMapFile(flipped, "mutate.exr");
-                auto hits = read ? hitsWith(info, surface, *read, rays) : Result<std::vector<Hit>>(read.error());
+                auto hits = read ? testing::hitsWithMaps(info, surface, *read, rays) : Result<std::vector<Hit>>(read.error());
                 if (!hits) {
                     ++refused;
                     continue;
                 }
                 ++accepted;
-                ASSERT_TRUE(sameHits(*hits, *reference)) << info.name << ": byte " << k << " of "
+                ASSERT_TRUE(testing::sameHits(*hits, *reference)) << info.name << ": byte " << k << " of "
                                                          << bytes.size() << " flipped changes hits";
             }
             EXPECT_GT(refused, 2 * accepted) << info.name;
