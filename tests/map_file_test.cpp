@@ -193,6 +193,27 @@ TEST(MapIntegrity, FlippedDataByteFailsTheChecksum) {
         << read.error().message;
 }
 
+// The checksum is a function of the maps: the same maps give the same bytes, other data another.
+TEST(MapIntegrity, ChecksumIsDeterministicAndCoversTheData) {
+    const Bytes first = bytesOf(sampleMaps(), "det1.exr"), second = bytesOf(sampleMaps(), "det2.exr");
+    EXPECT_EQ(first, second);
+    MapFile other = sampleMaps();
+    other.techniques[0].arrays[1].data[5] += 1.0f;
+    const Bytes changed = bytesOf(other, "det3.exr");
+    const std::string marker = "crc32:";
+    auto checksums = [&](const Bytes& b) {
+        std::vector<std::string> found;
+        for (auto at = std::search(b.begin(), b.end(), marker.begin(), marker.end()); at != b.end();
+             at = std::search(at + 1, b.end(), marker.begin(), marker.end()))
+            found.emplace_back(at, at + 14);
+        return found;
+    };
+    ASSERT_EQ(checksums(first).size(), 2u);  // one per part
+    EXPECT_EQ(checksums(changed)[0], checksums(first)[0]);  // level0 unchanged
+    EXPECT_NE(checksums(changed)[1], checksums(first)[1]);
+    EXPECT_TRUE(readMapFile(changed, "det3.exr").ok());
+}
+
 // Each relief attribute is covered by the checksum and validated on its own (a value of the wrong
 // form is named before the checksum is compared).
 TEST(MapIntegrity, EveryAttributeIsValidated) {
@@ -299,6 +320,7 @@ TEST(MapIntegrity, EditedValuesAreRefusedBySpotChecks) {
         {"quadtree", "level1", 0.5f, 0.0f, -1, "'level1' node"},
         {"maxmip", nullptr, 0.0f, 0.0f, -1, "but the heightfield gives"},
         {"quadtree-oriented", "level2", 1.0f, 1.0f, -1, "but its children give"},
+        {"quadtree-oriented", "oriented1", 1.0f, -0.5f, -1, "'oriented1' node"},
         {"qdm", "qdm", 1.0f, -1.0f, 0, "invalid entry"},
         {"safety-sd", "sd", 0.5f, 0.25f, -1, "bad safety distance"},
     };
