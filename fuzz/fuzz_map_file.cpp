@@ -29,8 +29,8 @@ std::shared_ptr<const Surface> fuzzSurface() {
     static const auto surface = [] {
         auto hf = loadHeightfield("gen:fbm:8x8:5");
         RELIEF_FUZZ_EXPECT(hf.ok());
-        return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)), 2.0f,
-                                               EdgeMode::Clamp);
+        return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)),
+                                               2.0f, EdgeMode::Clamp);
     }();
     return surface;
 }
@@ -41,7 +41,8 @@ const std::vector<Ray>& fuzzRays() {
         std::vector<Ray> r;
         for (int j = 0; j < 8; ++j)
             for (int i = 0; i < 8; ++i)
-                r.push_back({vec3(float(i) + 0.3f, float(j) + 0.6f, 4.0f), normalize(vec3(0.4f, -0.3f, -1.0f))});
+                r.push_back({vec3(float(i) + 0.3f, float(j) + 0.6f, 4.0f),
+                             normalize(vec3(0.4f, -0.3f, -1.0f))});
         return r;
     }();
     return rays;
@@ -69,7 +70,8 @@ const std::vector<Baked>& bakedRows() {
             file.techniques.push_back(std::move(*maps));
             RELIEF_FUZZ_EXPECT(writeMapFile(path.string(), file).ok());
             std::ifstream in(path, std::ios::binary);
-            Baked b{&info, std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {}), hitsWith(info, file)};
+            Baked b{&info, std::vector<unsigned char>(std::istreambuf_iterator<char>(in), {}),
+                    hitsWith(info, file)};
             RELIEF_FUZZ_EXPECT(!b.hits.empty());
             out.push_back(std::move(b));
         }
@@ -105,7 +107,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (!maps) return 0;
     RELIEF_FUZZ_EXPECT(checkMapSource("fuzz.maps.exr", maps->source, maps->source).ok());
     const MapSource& s = maps->source;
-    RELIEF_FUZZ_EXPECT(s.width >= 1 && s.height >= 1 && s.width <= kMaxDimension && s.height <= kMaxDimension);
+    RELIEF_FUZZ_EXPECT(s.width >= 1 && s.height >= 1 && s.width <= kMaxDimension &&
+                       s.height <= kMaxDimension);
     RELIEF_FUZZ_EXPECT(std::isfinite(s.depth) && s.depth >= 0.0f && s.depth <= 1e6f);
     RELIEF_FUZZ_EXPECT(s.edge == "clamp" || s.edge == "repeat");
     for (const TechniqueMaps& t : maps->techniques) {

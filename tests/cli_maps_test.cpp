@@ -93,8 +93,9 @@ TEST_F(CliMaps, Table) {
         EXPECT_NE(err.find(c.stderrFragment), std::string::npos) << c.name << ": stderr lacks '"
                                                                  << c.stderrFragment << "':\n" << err;
         // relief's own message only: one line, nothing from a library before it.
-        if (c.exitCode != 0)
+        if (c.exitCode != 0) {
             EXPECT_EQ(err.rfind("relief: error: ", 0), 0u) << c.name << ":\n" << err;
+        }
     }
 }
 

@@ -157,7 +157,6 @@ TEST(MapFile, FailedWriteLeavesPreviousFileUntouched) {
     fs::remove(path);
 }
 
-
 // ---- Integrity (issue 22, class 3): checksum, validated attributes, spot-checked invariants ----
 
 using Bytes = std::vector<unsigned char>;
@@ -189,13 +188,16 @@ TEST(MapIntegrity, FlippedDataByteFailsTheChecksum) {
     auto read = readMapFile(flipped, "flip.exr");
     ASSERT_FALSE(read.ok());
     EXPECT_EQ(read.error().kind, ErrorKind::InvalidInput);
-    EXPECT_EQ(read.error().message.rfind("flip.exr: map file damaged: part 'quadtree/level1' has checksum crc32:", 0), 0u)
+    EXPECT_EQ(read.error().message.rfind(
+                  "flip.exr: map file damaged: part 'quadtree/level1' has checksum crc32:", 0),
+              0u)
         << read.error().message;
 }
 
 // The checksum is a function of the maps: the same maps give the same bytes, other data another.
 TEST(MapIntegrity, ChecksumIsDeterministicAndCoversTheData) {
-    const Bytes first = bytesOf(sampleMaps(), "det1.exr"), second = bytesOf(sampleMaps(), "det2.exr");
+    const Bytes first = bytesOf(sampleMaps(), "det1.exr"),
+                second = bytesOf(sampleMaps(), "det2.exr");
     EXPECT_EQ(first, second);
     MapFile other = sampleMaps();
     other.techniques[0].arrays[1].data[5] += 1.0f;
@@ -208,7 +210,7 @@ TEST(MapIntegrity, ChecksumIsDeterministicAndCoversTheData) {
             found.emplace_back(at, at + 14);
         return found;
     };
-    ASSERT_EQ(checksums(first).size(), 2u);  // one per part
+    ASSERT_EQ(checksums(first).size(), 2u);                 // one per part
     EXPECT_EQ(checksums(changed)[0], checksums(first)[0]);  // level0 unchanged
     EXPECT_NE(checksums(changed)[1], checksums(first)[1]);
     EXPECT_TRUE(readMapFile(changed, "det3.exr").ok());
@@ -280,14 +282,16 @@ TEST(MapIntegrity, TwinPartsAreRefusedBeforeWriting) {
     const Status s = writeMapFile(tempPath("twice.exr").string(), twice);
     ASSERT_FALSE(s.ok());
     EXPECT_EQ(s.error().kind, ErrorKind::BadArgument);
-    EXPECT_NE(s.error().message.find("quadtree/level0 given twice"), std::string::npos) << s.error().message;
+    EXPECT_NE(s.error().message.find("quadtree/level0 given twice"), std::string::npos)
+        << s.error().message;
     EXPECT_FALSE(fs::exists(tempPath("twice.exr")));
 }
 
 std::shared_ptr<const Surface> smallSurface(EdgeMode edge = EdgeMode::Clamp) {
     auto hf = loadHeightfield("gen:fbm:12x10:3");
     EXPECT_TRUE(hf.ok());
-    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)), 4.0f, edge);
+    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)),
+                                           4.0f, edge);
 }
 
 MapFile bakedFor(std::shared_ptr<const Surface> surface, const TechniqueInfo& info) {
@@ -345,8 +349,8 @@ TEST(MapIntegrity, EditedValuesAreRefusedBySpotChecks) {
 }
 
 // The mutator of issue 22: every byte of a valid map file of each row flipped in turn (one bit,
-// a different one per byte; in repeat mode every seventh byte, to keep the test short). Each flip is refused, or the file reads back and every hit equals
-// the unflipped maps' hits.
+// a different one per byte; in repeat mode every seventh byte, to keep the test short). Each flip
+// is refused, or the file reads back and every hit equals the unflipped maps' hits.
 TEST(MapIntegrity, EveryFlippedByteIsRefusedOrChangesNoHit) {
     for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
         const auto surface = smallSurface(edge);
@@ -362,18 +366,21 @@ TEST(MapIntegrity, EveryFlippedByteIsRefusedOrChangesNoHit) {
                 Bytes flipped = bytes;
                 flipped[k] ^= uint8_t(1u << (k % 8));
                 auto read = readMapFile(flipped, "mutate.exr");
-                auto hits = read ? testing::hitsWithMaps(info, surface, *read, rays) : Result<std::vector<Hit>>(read.error());
+                auto hits = read ? testing::hitsWithMaps(info, surface, *read, rays)
+                                 : Result<std::vector<Hit>>(read.error());
                 if (!hits) {
                     ++refused;
                     continue;
                 }
                 ++accepted;
-                ASSERT_TRUE(testing::sameHits(*hits, *reference)) << info.name << ": byte " << k << " of "
-                                                         << bytes.size() << " flipped changes hits";
+                ASSERT_TRUE(testing::sameHits(*hits, *reference))
+                    << info.name << ": byte " << k << " of " << bytes.size()
+                    << " flipped changes hits";
             }
             EXPECT_GT(refused, 2 * accepted) << info.name;
-            RecordProperty(std::string(info.name) + (edge == EdgeMode::Clamp ? "_clamp" : "_repeat"),
-                           fmt::format("{} refused, {} accepted with the same hits", refused, accepted));
+            RecordProperty(
+                std::string(info.name) + (edge == EdgeMode::Clamp ? "_clamp" : "_repeat"),
+                fmt::format("{} refused, {} accepted with the same hits", refused, accepted));
         }
     }
 }

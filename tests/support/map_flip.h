@@ -10,7 +10,8 @@
 
 namespace relief::testing {
 
-inline Result<std::vector<Hit>> hitsWithMaps(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+inline Result<std::vector<Hit>> hitsWithMaps(const TechniqueInfo& info,
+                                             std::shared_ptr<const Surface> surface,
                                              const MapFile& maps, std::span<const Ray> rays) {
     auto input = techniqueInput(info, std::move(surface), {}, &maps, "edited.exr");
     if (!input) return input.error();
@@ -24,7 +25,8 @@ inline Result<std::vector<Hit>> hitsWithMaps(const TechniqueInfo& info, std::sha
 inline bool sameHits(const std::vector<Hit>& a, const std::vector<Hit>& b) {
     if (a.size() != b.size()) return false;
     for (size_t k = 0; k < a.size(); ++k)
-        if (a[k].hit != b[k].hit || (a[k].hit && (a[k].t != b[k].t || a[k].position != b[k].position)))
+        if (a[k].hit != b[k].hit ||
+            (a[k].hit && (a[k].t != b[k].t || a[k].position != b[k].position)))
             return false;
     return true;
 }

@@ -32,7 +32,8 @@ std::vector<const TechniqueInfo*> bakeable(const std::string& list) {
         const std::string name = list.substr(start, comma - start);
         const TechniqueInfo* info = findTechnique(name);
         if (info && std::find(infos.begin(), infos.end(), info) != infos.end())
-            throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: --maps names '{}' twice", name)};
+            throw CommandFailed{
+                makeError(ErrorKind::BadArgument, "bake: --maps names '{}' twice", name)};
         if (!info || !info->buildMaps)
             throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: '{}' has no maps to bake "
                                           "(techniques with maps: {})", name, known.empty() ? "none yet" : known)};
@@ -56,21 +57,28 @@ void runBake(const BakeOptions& o) {
         TechniqueInput input{surface, orFail(resolveParams(*infos[k], overrides[k])), nullptr};
         const auto start = std::chrono::steady_clock::now();
         file.techniques.push_back(orFail(infos[k]->buildMaps(input)));
-        seconds.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         // A parameter the maps do not record cannot have changed them (the tracer reads it):
         // accepting it would ignore it silently. Checked before anything is printed.
         for (const auto& [name, value] : overrides[k])
             if (!file.techniques.back().parameters.count(name))
-                throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: {}: parameter '{}' does not "
-                                              "change the maps (the tracer reads it: give it to render or "
-                                              "trace)", infos[k]->name, name)};
+                throw CommandFailed{
+                    makeError(ErrorKind::BadArgument,
+                              "bake: {}: parameter '{}' does not "
+                              "change the maps (the tracer reads it: give it to render or "
+                              "trace)",
+                              infos[k]->name, name)};
     }
     for (size_t k = 0; k < infos.size(); ++k) {
         size_t bytes = 0;
         for (const MapArray& a : file.techniques[k].arrays) bytes += a.data.size() * sizeof(float);
         std::cout << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", infos[k]->name,
-                                 file.techniques[k].arrays.size(), double(bytes) / double(hf->sampleCount()),
-                                 o.deterministic ? "" : fmt::format(", built in {:.3f} s on {} threads", seconds[k], ThreadLimit::current()));
+                                 file.techniques[k].arrays.size(),
+                                 double(bytes) / double(hf->sampleCount()),
+                                 o.deterministic ? ""
+                                                 : fmt::format(", built in {:.3f} s on {} threads",
+                                                               seconds[k], ThreadLimit::current()));
     }
     orFail(writeMapFile(o.output, file));
     std::cout << "wrote " << o.output << "\n";

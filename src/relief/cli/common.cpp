@@ -145,9 +145,10 @@ Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo*
         for (size_t a = 0; a < result[k].size(); ++a)
             for (size_t b = a + 1; b < result[k].size(); ++b)
                 if (result[k][a].first == result[k][b].first)
-                    return makeError(ErrorKind::BadArgument, "{}: parameter '{}' is given twice "
-                                     "(by --param or by the option of its role)", infos[k]->name,
-                                     result[k][a].first);
+                    return makeError(ErrorKind::BadArgument,
+                                     "{}: parameter '{}' is given twice "
+                                     "(by --param or by the option of its role)",
+                                     infos[k]->name, result[k][a].first);
     return result;
 }
 

@@ -15,7 +15,6 @@
 #include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <ImfStringVectorAttribute.h>
-
 #include <zlib.h>
 
 #include <bit>
@@ -69,12 +68,17 @@ struct PartAttributes {
     int index = 0, parts = 0;
 };
 
-PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const MapArray& a, int index,
-                            int parts) {
-    return {t.technique, a.name, encodeParameters(t.parameters),
+PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const MapArray& a,
+                            int index, int parts) {
+    return {t.technique,
+            a.name,
+            encodeParameters(t.parameters),
             fmt::format("{:016x}", file.source.heightfieldHash),
-            fmt::format("{}x{}", file.source.width, file.source.height), file.source.edge,
-            fmt::format("{:.9g}", file.source.depth), index, parts};
+            fmt::format("{}x{}", file.source.width, file.source.height),
+            file.source.edge,
+            fmt::format("{:.9g}", file.source.depth),
+            index,
+            parts};
 }
 
 // CRC-32 (zlib's, which libpng already links) over the part's relief attributes, its size and
@@ -83,17 +87,19 @@ PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const M
 // but 2^-32 of the others, which is what a map read back from disk needs.
 uint32_t partChecksum(const PartAttributes& p, const MapArray& a) {
     uLong crc = crc32(0L, Z_NULL, 0);
-    const std::string text = fmt::format(
-        "relief-map {}\n{}/{}\n{}\n{}\n{}\n{}\n{}\n{}x{}x{}\n{}/{}\n", kMapFormatVersion, p.technique,
-        p.array, p.parameters, p.hash, p.size, p.edge, p.depth, a.width, a.height, a.channels,
-        p.index, p.parts);
+    const std::string text =
+        fmt::format("relief-map {}\n{}/{}\n{}\n{}\n{}\n{}\n{}\n{}x{}x{}\n{}/{}\n",
+                    kMapFormatVersion, p.technique, p.array, p.parameters, p.hash, p.size, p.edge,
+                    p.depth, a.width, a.height, a.channels, p.index, p.parts);
     crc = crc32_z(crc, reinterpret_cast<const Bytef*>(text.data()), text.size());
     if constexpr (std::endian::native == std::endian::little) {
-        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(a.data.data()), a.data.size() * sizeof(float));
+        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(a.data.data()),
+                      a.data.size() * sizeof(float));
     } else {
         for (float v : a.data) {
             const uint32_t bits = std::bit_cast<uint32_t>(v);
-            const Bytef bytes[4] = {Bytef(bits), Bytef(bits >> 8), Bytef(bits >> 16), Bytef(bits >> 24)};
+            const Bytef bytes[4] = {Bytef(bits), Bytef(bits >> 8), Bytef(bits >> 16),
+                                    Bytef(bits >> 24)};
             crc = crc32_z(crc, bytes, 4);
         }
     }
@@ -149,15 +155,18 @@ bool isName(const std::string& text) {
 Result<MapSource> parseSource(const std::string& path, const PartAttributes& p) {
     MapSource s;
     auto bad = [&](const char* what, const std::string& value) {
-        return makeError(ErrorKind::InvalidInput, "{}: map file damaged: relief.source.{} '{}' is not {}; "
-                         "bake it again", path, what, value,
-                         std::string_view(what) == "hash" ? "16 hex digits"
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: relief.source.{} '{}' is not {}; "
+                         "bake it again",
+                         path, what, value,
+                         std::string_view(what) == "hash"   ? "16 hex digits"
                          : std::string_view(what) == "size" ? "WxH within the size limit"
                          : std::string_view(what) == "edge" ? "clamp or repeat"
                                                             : "a depth from 0 to 1e6");
     };
     const char* hashEnd = p.hash.data() + p.hash.size();
-    if (p.hash.size() != 16 || std::from_chars(p.hash.data(), hashEnd, s.heightfieldHash, 16).ptr != hashEnd)
+    if (p.hash.size() != 16 ||
+        std::from_chars(p.hash.data(), hashEnd, s.heightfieldHash, 16).ptr != hashEnd)
         return bad("hash", p.hash);
     char tail = 0;
     if (std::sscanf(p.size.c_str(), "%dx%d%c", &s.width, &s.height, &tail) != 2 || s.width < 1 ||
@@ -174,10 +183,12 @@ Result<MapSource> parseSource(const std::string& path, const PartAttributes& p) 
 
 // A part's relief attributes; null when one is missing or has the wrong type.
 std::optional<PartAttributes> readAttributes(const Imf::Header& h, int index) {
-    const char* names[] = {"relief.technique", "relief.array", "relief.parameters", "relief.source.hash",
-                           "relief.source.size", "relief.source.edge", "relief.source.depth"};
+    const char* names[] = {"relief.technique",   "relief.array",       "relief.parameters",
+                           "relief.source.hash", "relief.source.size", "relief.source.edge",
+                           "relief.source.depth"};
     PartAttributes p;
-    std::string* fields[] = {&p.technique, &p.array, &p.parameters, &p.hash, &p.size, &p.edge, &p.depth};
+    std::string* fields[] = {&p.technique, &p.array, &p.parameters, &p.hash,
+                             &p.size,      &p.edge,  &p.depth};
     for (size_t k = 0; k < std::size(names); ++k) {
         const auto* a = attribute<Imf::StringAttribute>(h, names[k]);
         if (!a) return std::nullopt;
@@ -249,8 +260,10 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
                 return makeError(ErrorKind::Runtime, "{}: map array {}/{} is malformed", path, t.technique, a.name);
             // OpenEXR's own refusal of twin part names would reach the user as its message.
             if (!names.insert(t.technique + "/" + a.name).second)
-                return makeError(ErrorKind::BadArgument, "{}: maps {}/{} given twice", path, t.technique, a.name);
-            headers.push_back(partHeader(maps, attributesOf(maps, t, a, int(headers.size()), parts), a));
+                return makeError(ErrorKind::BadArgument, "{}: maps {}/{} given twice", path,
+                                 t.technique, a.name);
+            headers.push_back(
+                partHeader(maps, attributesOf(maps, t, a, int(headers.size()), parts), a));
             arrays.push_back(&a);
         }
     if (headers.empty()) return makeError(ErrorKind::BadArgument, "{}: no maps to write", path);
@@ -283,7 +296,8 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
         if (!version)
             return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
         if (version->value() < kMapFormatVersion)
-            return makeError(ErrorKind::Unsupported, "{}: map format version {} has no checksum (this relief "
+            return makeError(ErrorKind::Unsupported,
+                             "{}: map format version {} has no checksum (this relief "
                              "reads version {} only); bake the maps again with relief bake",
                              path, version->value(), kMapFormatVersion);
         if (version->value() != kMapFormatVersion)
@@ -291,20 +305,30 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
                              path, version->value(), kMapFormatVersion);
         auto attributes = readAttributes(h, p);
         if (!attributes)
-            return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: not a relief map file (part {} lacks relief attributes)", path,
+                             p);
         const auto* checksum = attribute<Imf::StringAttribute>(h, "relief.checksum");
         if (!checksum)
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: part {} has no checksum; bake it again", path, p);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part {} has no checksum; bake it again", path,
+                             p);
         const std::string part = attributes->technique + "/" + attributes->array;
         auto parameters = decodeParameters(attributes->parameters);
-        if (!isName(attributes->technique) || !isName(attributes->array) || h.name() != part || !parameters)
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: part {} ('{}') has malformed "
-                             "names or parameters; bake it again", path, p, h.name());
+        if (!isName(attributes->technique) || !isName(attributes->array) || h.name() != part ||
+            !parameters)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part {} ('{}') has malformed "
+                             "names or parameters; bake it again",
+                             path, p, h.name());
         if (attributes->parts != file.parts())
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: it says {} parts but holds {}; "
-                             "bake it again", path, attributes->parts, file.parts());
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: it says {} parts but holds {}; "
+                             "bake it again",
+                             path, attributes->parts, file.parts());
         if (!seen.insert(part).second)
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: part '{}' appears twice", path, part);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part '{}' appears twice", path, part);
         auto source = parseSource(path, *attributes);
         if (!source) return source.error();
         if (p == 0) {
@@ -317,16 +341,19 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
         if (!array) return array.error();
         const std::string computed = checksumText(partChecksum(*attributes, *array));
         if (checksum->value() != computed)
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: part '{}' has checksum {} but "
-                             "its data and attributes give {}; bake it again", path, part,
-                             checksum->value(), computed);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part '{}' has checksum {} but "
+                             "its data and attributes give {}; bake it again",
+                             path, part, checksum->value(), computed);
         TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(attributes->technique));
         if (!t) {
             maps.techniques.push_back({attributes->technique, std::move(*parameters), {}});
             t = &maps.techniques.back();
         } else if (t->parameters != *parameters)
-            return makeError(ErrorKind::InvalidInput, "{}: map file damaged: the parts of '{}' disagree on "
-                             "its parameters", path, attributes->technique);
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: the parts of '{}' disagree on "
+                             "its parameters",
+                             path, attributes->technique);
         t->arrays.push_back(std::move(*array));
     }
     return maps;

@@ -16,8 +16,10 @@ Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions&
                                             std::pair{!o.heightRange.empty(), "--height-range"},
                                             std::pair{o.channel != "luminance", "--channel"}})
             if (given)
-                return makeError(ErrorKind::BadArgument, "{}: {} describes a file; a generator "
-                                 "reads none", o.source, option);
+                return makeError(ErrorKind::BadArgument,
+                                 "{}: {} describes a file; a generator "
+                                 "reads none",
+                                 o.source, option);
     LoadOptions load;
     load.invert = o.invert;
     load.maxSamples = o.maxSamples;

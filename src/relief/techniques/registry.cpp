@@ -401,7 +401,8 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
         if (info.check)
             if (Status s = info.check(input); !s)
                 return s.error().kind == ErrorKind::InvalidInput
-                           ? makeError(ErrorKind::InvalidInput, "{}: {}", mapsPath, s.error().message)
+                           ? makeError(ErrorKind::InvalidInput, "{}: {}", mapsPath,
+                                       s.error().message)
                            : s.error();
     }
     return input;

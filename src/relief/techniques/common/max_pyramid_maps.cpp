@@ -73,18 +73,22 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
 // than reading the file.
 Status MaxPyramid::spotCheck(const Surface& surface, const std::string& technique) const {
     auto refuse = [&](int level, int x, int y, float stored, float expected) {
-        return makeError(ErrorKind::InvalidInput, "{} maps: '{}' node ({}, {}) is {} but {} gives {}; the "
-                         "maps were edited or built wrongly, bake them again", technique,
-                         levelName(level), x, y, stored, level == 0 ? "the heightfield" : "its children", expected);
+        return makeError(ErrorKind::InvalidInput,
+                         "{} maps: '{}' node ({}, {}) is {} but {} gives {}; the "
+                         "maps were edited or built wrongly, bake them again",
+                         technique, levelName(level), x, y, stored,
+                         level == 0 ? "the heightfield" : "its children", expected);
     };
     for (int level = 1; level < m_layout.levels; ++level) {
         const int fineW = m_layout.widthAt(level - 1), fineH = m_layout.heightAt(level - 1);
         for (int y = 0; y < m_layout.heightAt(level); ++y)
             for (int x = 0; x < m_layout.widthAt(level); ++x) {
                 const int x1 = std::min(2 * x + 1, fineW - 1), y1 = std::min(2 * y + 1, fineH - 1);
-                const float expected = std::max(std::max(at(level - 1, 2 * x, 2 * y), at(level - 1, x1, 2 * y)),
-                                                std::max(at(level - 1, 2 * x, y1), at(level - 1, x1, y1)));
-                if (at(level, x, y) != expected) return refuse(level, x, y, at(level, x, y), expected);
+                const float expected =
+                    std::max(std::max(at(level - 1, 2 * x, 2 * y), at(level - 1, x1, 2 * y)),
+                             std::max(at(level - 1, 2 * x, y1), at(level - 1, x1, y1)));
+                if (at(level, x, y) != expected)
+                    return refuse(level, x, y, at(level, x, y), expected);
             }
     }
     const VertexGrid vertices(surface);
