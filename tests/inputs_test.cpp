@@ -129,7 +129,7 @@ const InputCase kInputCases[] = {
     {"--max-samples overflow", "info " + kMap + " --max-samples 99999999999999999999", 1,
      "--max-samples"},
     {"--threads huge", kRender + "--threads 2147483647", 1, "--threads"},
-    {"--height-range trailing", kRender + "--height-range 0:1:2", 1, "--height-range '0:1:2'"},
+    {"--height-range trailing", "info {tmp}/lf.pfm --height-range 0:1:2", 1, "--height-range '0:1:2'"},
     {"relaxed-cone max-steps=1e9", kRender + "-t relaxed-cone --param max-steps=1e9", 1,
      "an integer 1 to 4096"},
     {"linear max-steps=1e6", kRender + "-t linear --max-steps 1000000", 1, "an integer 1 to 65536"},

@@ -1,7 +1,19 @@
+#include <relief/io/heightfield_io.h>
 #include <relief/io/map_file.h>
+#include <relief/techniques/registry.h>
 
+#include "support/map_flip.h"
+#include "support/ray_sets.h"
+
+#include <ImfChannelList.h>
+#include <ImfHeader.h>
+#include <ImfIntAttribute.h>
+#include <ImfOutputFile.h>
+#include <ImfStringAttribute.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -143,6 +155,234 @@ TEST(MapFile, FailedWriteLeavesPreviousFileUntouched) {
     EXPECT_EQ(fs::file_size(path), size);
     EXPECT_TRUE(readMapFile(path.string()).ok());
     fs::remove(path);
+}
+
+// ---- Integrity (issue 22, class 3): checksum, validated attributes, spot-checked invariants ----
+
+using Bytes = std::vector<unsigned char>;
+
+Bytes bytesOf(const MapFile& maps, const char* name) {
+    const fs::path path = tempPath(name);
+    const Status written = writeMapFile(path.string(), maps);
+    EXPECT_TRUE(written.ok()) << written.error().message;
+    std::ifstream in(path, std::ios::binary);
+    Bytes bytes(std::istreambuf_iterator<char>(in), {});
+    fs::remove(path);
+    return bytes;
+}
+
+// Replaces the first occurrence of `from` (an attribute value as stored) by `to`, same length.
+Bytes edited(Bytes bytes, const std::string& from, const std::string& to) {
+    auto at = std::search(bytes.begin(), bytes.end(), from.begin(), from.end());
+    EXPECT_NE(at, bytes.end()) << from;
+    if (at != bytes.end()) std::copy(to.begin(), to.end(), at);
+    return bytes;
+}
+
+TEST(MapIntegrity, FlippedDataByteFailsTheChecksum) {
+    const Bytes bytes = bytesOf(sampleMaps(), "flip.exr");
+    ASSERT_TRUE(readMapFile(bytes, "flip.exr").ok());
+    // The last bytes are level1's floats (uncompressed scanlines): a flip changes a value.
+    Bytes flipped = bytes;
+    flipped[flipped.size() - 3] ^= 0x10;
+    auto read = readMapFile(flipped, "flip.exr");
+    ASSERT_FALSE(read.ok());
+    EXPECT_EQ(read.error().kind, ErrorKind::InvalidInput);
+    EXPECT_EQ(read.error().message.rfind(
+                  "flip.exr: map file damaged: part 'quadtree/level1' has checksum crc32:", 0),
+              0u)
+        << read.error().message;
+}
+
+// The checksum is a function of the maps: the same maps give the same bytes, other data another.
+TEST(MapIntegrity, ChecksumIsDeterministicAndCoversTheData) {
+    const Bytes first = bytesOf(sampleMaps(), "det1.exr"),
+                second = bytesOf(sampleMaps(), "det2.exr");
+    EXPECT_EQ(first, second);
+    MapFile other = sampleMaps();
+    other.techniques[0].arrays[1].data[5] += 1.0f;
+    const Bytes changed = bytesOf(other, "det3.exr");
+    const std::string marker = "crc32:";
+    auto checksums = [&](const Bytes& b) {
+        std::vector<std::string> found;
+        for (auto at = std::search(b.begin(), b.end(), marker.begin(), marker.end()); at != b.end();
+             at = std::search(at + 1, b.end(), marker.begin(), marker.end()))
+            found.emplace_back(at, at + 14);
+        return found;
+    };
+    ASSERT_EQ(checksums(first).size(), 2u);                 // one per part
+    EXPECT_EQ(checksums(changed)[0], checksums(first)[0]);  // level0 unchanged
+    EXPECT_NE(checksums(changed)[1], checksums(first)[1]);
+    EXPECT_TRUE(readMapFile(changed, "det3.exr").ok());
+}
+
+// Each relief attribute is covered by the checksum and validated on its own (a value of the wrong
+// form is named before the checksum is compared).
+TEST(MapIntegrity, EveryAttributeIsValidated) {
+    const Bytes bytes = bytesOf(sampleMaps(), "attr.exr");
+    const struct {
+        const char* from;
+        const char* to;
+        const char* fragment;
+    } cases[] = {
+        {"2.5", "nan", "relief.source.depth 'nan' is not a depth from 0 to 1e6"},
+        {"2.5", "inf", "relief.source.depth 'inf'"},
+        {"2.5", "-25", "relief.source.depth '-25'"},
+        {"clamp", "cramp", "relief.source.edge 'cramp' is not clamp or repeat"},
+        {"5x3", "5y3", "relief.source.size '5y3'"},
+        {"5x3", "0x3", "relief.source.size '0x3'"},
+        {"000000001234abcd", "000000001234abcg", "relief.source.hash '000000001234abcg'"},
+        {"levels=3", "levels=x", "malformed names or parameters"},
+        {"levels=3", "levels=4", "has checksum"},
+        {"level0", "level9", "malformed names"},  // the part name, first
+        {"crc32:", "crc31:", "has checksum crc31:"},
+        {"relief.checksum", "relief.checksuX", "has no checksum"},
+    };
+    for (const auto& c : cases) {
+        auto read = readMapFile(edited(bytes, c.from, c.to), "attr.exr");
+        ASSERT_FALSE(read.ok()) << c.from << " -> " << c.to;
+        EXPECT_EQ(read.error().kind, ErrorKind::InvalidInput) << c.to;
+        EXPECT_NE(read.error().message.find(c.fragment), std::string::npos) << read.error().message;
+        EXPECT_EQ(read.error().message.rfind("attr.exr: ", 0), 0u) << read.error().message;
+    }
+}
+
+// A NaN depth used to pass the stale-map check (every comparison with NaN is false).
+TEST(MapIntegrity, NanDepthNeverMatches) {
+    const MapSource current{1, 5, 3, "clamp", 2.5f};
+    MapSource stored = current;
+    stored.depth = std::nanf("");
+    EXPECT_FALSE(checkMapSource("m.exr", stored, current).ok());
+    EXPECT_FALSE(checkMapSource("m.exr", current, stored).ok());
+}
+
+// Version 1 maps (no checksum) are refused with a message saying to bake them again.
+TEST(MapIntegrity, VersionOneMapsAskToBeBakedAgain) {
+    const fs::path path = tempPath("v1.exr");
+    {
+        Imf::Header h(2, 2);
+        h.channels().insert("c0", Imf::Channel(Imf::FLOAT));
+        h.insert("relief.version", Imf::IntAttribute(1));
+        h.insert("relief.technique", Imf::StringAttribute("quadtree"));
+        h.insert("relief.parameters", Imf::StringAttribute(""));
+        Imf::OutputFile out(path.c_str(), h);
+    }
+    auto read = readMapFile(path.string());
+    fs::remove(path);
+    ASSERT_FALSE(read.ok());
+    EXPECT_EQ(read.error().kind, ErrorKind::Unsupported);
+    EXPECT_NE(read.error().message.find("map format version 1 has no checksum"), std::string::npos)
+        << read.error().message;
+    EXPECT_NE(read.error().message.find("bake the maps again"), std::string::npos);
+}
+
+TEST(MapIntegrity, TwinPartsAreRefusedBeforeWriting) {
+    MapFile twice = sampleMaps();
+    twice.techniques.push_back(twice.techniques[0]);
+    const Status s = writeMapFile(tempPath("twice.exr").string(), twice);
+    ASSERT_FALSE(s.ok());
+    EXPECT_EQ(s.error().kind, ErrorKind::BadArgument);
+    EXPECT_NE(s.error().message.find("quadtree/level0 given twice"), std::string::npos)
+        << s.error().message;
+    EXPECT_FALSE(fs::exists(tempPath("twice.exr")));
+}
+
+std::shared_ptr<const Surface> smallSurface(EdgeMode edge = EdgeMode::Clamp) {
+    auto hf = loadHeightfield("gen:fbm:12x10:3");
+    EXPECT_TRUE(hf.ok());
+    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(*hf)),
+                                           4.0f, edge);
+}
+
+MapFile bakedFor(std::shared_ptr<const Surface> surface, const TechniqueInfo& info) {
+    auto input = techniqueInput(info, surface, {});
+    EXPECT_TRUE(input.ok());
+    auto maps = info.buildMaps(*input);
+    EXPECT_TRUE(maps.ok()) << info.name;
+    MapFile file;
+    file.source = mapSourceOf(*surface);
+    file.techniques.push_back(std::move(*maps));
+    return file;
+}
+
+// Values edited by hand and written with a valid checksum: the spot checks refuse them, naming
+// the file and what failed.
+TEST(MapIntegrity, EditedValuesAreRefusedBySpotChecks) {
+    const auto surface = smallSurface();
+    const struct {
+        const char* technique;
+        const char* array;    // null: every array
+        float scale, offset;  // value = value * scale + offset, on every texel
+        int channel;          // -1: every channel
+        const char* fragment;
+    } cases[] = {
+        {"cone", "cones", 2.0f, 0.0f, 1, "has ratio"},
+        {"cone", "cones", 1.0f, -1.0f, 1, "has ratio -"},
+        {"cone", "cones", 0.0f, 0.0f, 0, "has apex 0"},
+        {"cone", "cones", 0.5f, 0.0f, 0, "outside [sample"},
+        {"relaxed-cone", "cones", 0.0f, -1.0f, 0, "has apex -1"},
+        {"quadtree", "level1", 0.5f, 0.0f, -1, "'level1' node"},
+        {"maxmip", nullptr, 0.0f, 0.0f, -1, "but the heightfield gives"},
+        {"quadtree-oriented", "level2", 1.0f, 1.0f, -1, "but its children give"},
+        {"quadtree-oriented", "oriented1", 1.0f, -0.5f, -1, "'oriented1' node"},
+        {"qdm", "qdm", 1.0f, -1.0f, 0, "invalid entry"},
+        {"safety-sd", "sd", 0.5f, 0.25f, -1, "bad safety distance"},
+    };
+    for (const auto& c : cases) {
+        const TechniqueInfo* info = findTechnique(c.technique);
+        ASSERT_NE(info, nullptr) << c.technique;
+        MapFile maps = bakedFor(surface, *info);
+        ASSERT_TRUE(!c.array || maps.techniques[0].find(c.array)) << c.technique << " " << c.array;
+        for (MapArray& a : maps.techniques[0].arrays)
+            if (!c.array || a.name == c.array)
+                for (size_t k = 0; k < a.data.size(); ++k)
+                    if (c.channel < 0 || int(k % size_t(a.channels)) == c.channel)
+                        a.data[k] = a.data[k] * c.scale + c.offset;
+        auto read = readMapFile(bytesOf(maps, "edited.exr"), "edited.exr");  // a valid checksum
+        ASSERT_TRUE(read.ok()) << read.error().message;
+        auto hits = testing::hitsWithMaps(*info, surface, *read, {});
+        ASSERT_FALSE(hits.ok()) << c.technique << " accepted " << c.array << " edited";
+        EXPECT_EQ(hits.error().kind, ErrorKind::InvalidInput);
+        EXPECT_EQ(hits.error().message.rfind("edited.exr: ", 0), 0u) << hits.error().message;
+        EXPECT_NE(hits.error().message.find(c.fragment), std::string::npos) << hits.error().message;
+    }
+}
+
+// The mutator of issue 22: every byte of a valid map file of each row flipped in turn (one bit,
+// a different one per byte; in repeat mode every seventh byte, to keep the test short). Each flip
+// is refused, or the file reads back and every hit equals the unflipped maps' hits.
+TEST(MapIntegrity, EveryFlippedByteIsRefusedOrChangesNoHit) {
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const auto surface = smallSurface(edge);
+        const std::vector<Ray> rays = testing::RaySets(*surface, 7).fromOutside(200);
+        for (const TechniqueInfo& info : techniques()) {
+            if (!info.buildMaps) continue;
+            const MapFile maps = bakedFor(surface, info);
+            const Bytes bytes = bytesOf(maps, "mutate.exr");
+            auto reference = testing::hitsWithMaps(info, surface, maps, rays);
+            ASSERT_TRUE(reference.ok()) << info.name << ": " << reference.error().message;
+            size_t refused = 0, accepted = 0;
+            for (size_t k = 0; k < bytes.size(); k += edge == EdgeMode::Clamp ? 1 : 7) {
+                Bytes flipped = bytes;
+                flipped[k] ^= uint8_t(1u << (k % 8));
+                auto read = readMapFile(flipped, "mutate.exr");
+                auto hits = read ? testing::hitsWithMaps(info, surface, *read, rays)
+                                 : Result<std::vector<Hit>>(read.error());
+                if (!hits) {
+                    ++refused;
+                    continue;
+                }
+                ++accepted;
+                ASSERT_TRUE(testing::sameHits(*hits, *reference))
+                    << info.name << ": byte " << k << " of " << bytes.size()
+                    << " flipped changes hits";
+            }
+            EXPECT_GT(refused, 2 * accepted) << info.name;
+            RecordProperty(
+                std::string(info.name) + (edge == EdgeMode::Clamp ? "_clamp" : "_repeat"),
+                fmt::format("{} refused, {} accepted with the same hits", refused, accepted));
+        }
+    }
 }
 
 }  // namespace

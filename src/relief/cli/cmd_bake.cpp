@@ -4,6 +4,7 @@
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
 
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 
@@ -31,6 +32,9 @@ std::vector<const TechniqueInfo*> bakeable(const std::string& list) {
         if (comma == std::string::npos) comma = list.size();
         const std::string name = list.substr(start, comma - start);
         const TechniqueInfo* info = findTechnique(name);
+        if (info && std::find(infos.begin(), infos.end(), info) != infos.end())
+            throw CommandFailed{
+                makeError(ErrorKind::BadArgument, "bake: --maps names '{}' twice", name)};
         if (!info || !info->buildMaps)
             throw CommandFailed{makeError(ErrorKind::BadArgument, "bake: '{}' has no maps to bake "
                                           "(techniques with maps: {})", name, known.empty() ? "none yet" : known)};
@@ -49,22 +53,39 @@ void runBake(const BakeOptions& o) {
     file.source = mapSourceOf(*surface);
     // Options and parameters a technique lacks are only an error if no technique has them.
     const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
+    std::vector<double> seconds;
     for (size_t k = 0; k < infos.size(); ++k) {
-        const TechniqueInfo* info = infos[k];
-        TechniqueInput input{surface, orFail(resolveParams(*info, overrides[k])), nullptr};
+        TechniqueInput input{surface, orFail(resolveParams(*infos[k], overrides[k])), nullptr};
         const auto start = std::chrono::steady_clock::now();
-        TechniqueMaps maps = orFail(info->buildMaps(input));
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        file.techniques.push_back(orFail(infos[k]->buildMaps(input)));
+        seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        // A parameter the maps do not record cannot have changed them (the tracer reads it):
+        // accepting it would ignore it silently. Checked before anything is printed.
+        for (const auto& [name, value] : overrides[k])
+            if (!file.techniques.back().parameters.count(name))
+                throw CommandFailed{
+                    makeError(ErrorKind::BadArgument,
+                              "bake: {}: parameter '{}' does not "
+                              "change the maps (the tracer reads it: give it to render or "
+                              "trace)",
+                              infos[k]->name, name)};
+    }
+    // Maps on stdout keep stdout to themselves: the report goes to stderr then.
+    std::ostream& report = o.output == "-" ? std::cerr : std::cout;
+    for (size_t k = 0; k < infos.size(); ++k) {
         size_t bytes = 0;
-        for (const MapArray& a : maps.arrays) bytes += a.data.size() * sizeof(float);
+        for (const MapArray& a : file.techniques[k].arrays) bytes += a.data.size() * sizeof(float);
         if (!Progress::quiet())
-            std::cout << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", info->name,
-                                 maps.arrays.size(), double(bytes) / double(hf->sampleCount()),
-                                 o.deterministic ? "" : fmt::format(", built in {:.3f} s on {} threads", seconds, ThreadLimit::current()));
-        file.techniques.push_back(std::move(maps));
+            report << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", infos[k]->name,
+                                 file.techniques[k].arrays.size(),
+                                 double(bytes) / double(hf->sampleCount()),
+                                 o.deterministic ? ""
+                                                 : fmt::format(", built in {:.3f} s on {} threads",
+                                                               seconds[k], ThreadLimit::current()));
     }
     orFail(writeMapFile(o.output, file));
-    if (!Progress::quiet()) std::cout << "wrote " << o.output << "\n";
+    if (!Progress::quiet()) report << "wrote " << o.output << "\n";
 }
 
 }  // namespace
@@ -74,7 +95,8 @@ void addBakeCommand(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand("bake", "precompute techniques' maps into one OpenEXR file");
     addSurfaceOptions(*cmd, o->surface);
     cmd->add_option("--maps,-t,--technique", o->techniques, "techniques whose maps to bake, comma-separated")->required();
-    cmd->add_option("--max-steps", o->technique.maxSteps, "iteration cap, if a map builder uses one");
+    cmd->add_option("--max-steps", o->technique.maxSteps,
+                    "refused with a message: the iteration cap never changes the maps");
     addRoleOptions(*cmd, o->technique);
     cmd->add_option("--param", o->technique.params, "technique parameter NAME=VALUE (repeatable)");
     cmd->add_option("-o,--output", o->output, "map file (.exr)")->required();

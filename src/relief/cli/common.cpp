@@ -161,6 +161,16 @@ Result<std::vector<Overrides>> parameterOverrides(std::span<const TechniqueInfo*
                              name, namesOf(infos));
         if (!used) result[0].emplace_back(name, value);  // resolveParams names the technique
     }
+    // Twice the same parameter (two --param, or --param and its role option): the last would win
+    // silently.
+    for (size_t k = 0; k < infos.size(); ++k)
+        for (size_t a = 0; a < result[k].size(); ++a)
+            for (size_t b = a + 1; b < result[k].size(); ++b)
+                if (result[k][a].first == result[k][b].first)
+                    return makeError(ErrorKind::BadArgument,
+                                     "{}: parameter '{}' is given twice "
+                                     "(by --param or by the option of its role)",
+                                     infos[k]->name, result[k][a].first);
     return result;
 }
 
@@ -178,6 +188,9 @@ Result<std::unique_ptr<Tracer>> makeTracer(const TechniqueOptions& o,
     if (!info) return info.error();
     auto overrides = parameterOverrides(**info, o);
     if (!overrides) return overrides.error();
+    // Never accepted unread: the file would not even be opened.
+    if (!o.mapsPath.empty() && !(*info)->buildMaps)
+        return makeError(ErrorKind::Unsupported, "--maps: {} reads no maps", (*info)->name);
     return makeTracer(**info, *overrides, o.mapsPath,
                       backendOf(o), std::move(surface));
 }

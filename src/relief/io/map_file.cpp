@@ -15,8 +15,14 @@
 #include <ImfPartType.h>
 #include <ImfStringAttribute.h>
 #include <ImfStringVectorAttribute.h>
+#include <zlib.h>
 
+#include <bit>
+#include <charconv>
 #include <cmath>
+#include <cstring>
+#include <optional>
+#include <set>
 
 namespace relief {
 
@@ -31,7 +37,14 @@ std::string encodeParameters(const std::map<std::string, std::string>& parameter
     return text;
 }
 
-std::map<std::string, std::string> decodeParameters(const std::string& text) {
+bool isNumber(const std::string& text, double& value) {
+    const char* end = text.data() + text.size();
+    const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+    return !text.empty() && ec == std::errc() && ptr == end && std::isfinite(value);
+}
+
+// Every item NAME=NUMBER with a name of [a-z0-9-] (what the builders write), else nullopt.
+std::optional<std::map<std::string, std::string>> decodeParameters(const std::string& text) {
     std::map<std::string, std::string> parameters;
     size_t start = 0;
     while (start < text.size()) {
@@ -39,29 +52,81 @@ std::map<std::string, std::string> decodeParameters(const std::string& text) {
         if (end == std::string::npos) end = text.size();
         const std::string item = text.substr(start, end - start);
         const size_t eq = item.find('=');
-        if (eq != std::string::npos) parameters[item.substr(0, eq)] = item.substr(eq + 1);
+        double value = 0;
+        if (eq == 0 || eq == std::string::npos || !isNumber(item.substr(eq + 1), value) ||
+            item.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-") < eq ||
+            !parameters.emplace(item.substr(0, eq), item.substr(eq + 1)).second)
+            return std::nullopt;
         start = end + 1;
     }
     return parameters;
 }
 
-Imf::Header partHeader(const MapFile& file, const TechniqueMaps& t, const MapArray& a) {
+// The relief attributes of one part as stored (strings as written), and what its checksum covers.
+struct PartAttributes {
+    std::string technique, array, parameters, hash, size, edge, depth;
+    int index = 0, parts = 0;
+};
+
+PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const MapArray& a,
+                            int index, int parts) {
+    return {t.technique,
+            a.name,
+            encodeParameters(t.parameters),
+            fmt::format("{:016x}", file.source.heightfieldHash),
+            fmt::format("{}x{}", file.source.width, file.source.height),
+            file.source.edge,
+            fmt::format("{:.9g}", file.source.depth),
+            index,
+            parts};
+}
+
+// CRC-32 (zlib's, which libpng already links) over the part's relief attributes, its size and
+// its floats as little-endian bytes. It is a guard against damage (a flipped byte, a truncated
+// or edited block), not against forgery: a CRC detects every error burst up to 32 bits and all
+// but 2^-32 of the others, which is what a map read back from disk needs.
+uint32_t partChecksum(const PartAttributes& p, const MapArray& a) {
+    uLong crc = crc32(0L, Z_NULL, 0);
+    const std::string text =
+        fmt::format("relief-map {}\n{}/{}\n{}\n{}\n{}\n{}\n{}\n{}x{}x{}\n{}/{}\n",
+                    kMapFormatVersion, p.technique, p.array, p.parameters, p.hash, p.size, p.edge,
+                    p.depth, a.width, a.height, a.channels, p.index, p.parts);
+    crc = crc32_z(crc, reinterpret_cast<const Bytef*>(text.data()), text.size());
+    if constexpr (std::endian::native == std::endian::little) {
+        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(a.data.data()),
+                      a.data.size() * sizeof(float));
+    } else {
+        for (float v : a.data) {
+            const uint32_t bits = std::bit_cast<uint32_t>(v);
+            const Bytef bytes[4] = {Bytef(bits), Bytef(bits >> 8), Bytef(bits >> 16),
+                                    Bytef(bits >> 24)};
+            crc = crc32_z(crc, bytes, 4);
+        }
+    }
+    return uint32_t(crc);
+}
+
+std::string checksumText(uint32_t crc) { return fmt::format("crc32:{:08x}", crc); }
+
+Imf::Header partHeader(const MapFile& file, const PartAttributes& p, const MapArray& a) {
     // Multi-part files need one display window for all parts: the heightfield's.
     const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(std::max(1, file.source.width) - 1,
                                                             std::max(1, file.source.height) - 1));
     const Imath::Box2i data(Imath::V2i(0, 0), Imath::V2i(a.width - 1, a.height - 1));
     Imf::Header h(display, data);
-    h.setName(t.technique + "/" + a.name);
+    h.setName(p.technique + "/" + p.array);
     h.setType(Imf::SCANLINEIMAGE);
     for (int c = 0; c < a.channels; ++c) h.channels().insert(kChannelNames[c], Imf::Channel(Imf::FLOAT));
     h.insert("relief.version", Imf::IntAttribute(kMapFormatVersion));
-    h.insert("relief.technique", Imf::StringAttribute(t.technique));
-    h.insert("relief.array", Imf::StringAttribute(a.name));
-    h.insert("relief.parameters", Imf::StringAttribute(encodeParameters(t.parameters)));
-    h.insert("relief.source.hash", Imf::StringAttribute(fmt::format("{:016x}", file.source.heightfieldHash)));
-    h.insert("relief.source.size", Imf::StringAttribute(fmt::format("{}x{}", file.source.width, file.source.height)));
-    h.insert("relief.source.edge", Imf::StringAttribute(file.source.edge));
-    h.insert("relief.source.depth", Imf::StringAttribute(fmt::format("{:.9g}", file.source.depth)));
+    h.insert("relief.technique", Imf::StringAttribute(p.technique));
+    h.insert("relief.array", Imf::StringAttribute(p.array));
+    h.insert("relief.parameters", Imf::StringAttribute(p.parameters));
+    h.insert("relief.source.hash", Imf::StringAttribute(p.hash));
+    h.insert("relief.source.size", Imf::StringAttribute(p.size));
+    h.insert("relief.source.edge", Imf::StringAttribute(p.edge));
+    h.insert("relief.source.depth", Imf::StringAttribute(p.depth));
+    h.insert("relief.parts", Imf::IntAttribute(p.parts));
+    h.insert("relief.checksum", Imf::StringAttribute(checksumText(partChecksum(p, a))));
     return h;
 }
 
@@ -79,26 +144,68 @@ const A* attribute(const Imf::Header& h, const char* name) {
     return h.findTypedAttribute<A>(name);
 }
 
-Result<MapSource> readSource(const std::string& path, const Imf::Header& h) {
-    const auto* hash = attribute<Imf::StringAttribute>(h, "relief.source.hash");
-    const auto* size = attribute<Imf::StringAttribute>(h, "relief.source.size");
-    const auto* edge = attribute<Imf::StringAttribute>(h, "relief.source.edge");
-    const auto* depth = attribute<Imf::StringAttribute>(h, "relief.source.depth");
+bool isName(const std::string& text) {
+    return !text.empty() && text.size() <= 64 &&
+           text.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-_+") == std::string::npos;
+}
+
+// The source attributes, each checked: 16 hex digits, WxH within the dimension limit, an edge
+// mode relief knows and a finite depth in the range makeSurface accepts (a `nan` depth would
+// otherwise pass every comparison in checkMapSource).
+Result<MapSource> parseSource(const std::string& path, const PartAttributes& p) {
     MapSource s;
-    if (!hash || !size || !edge || !depth ||
-        std::sscanf(size->value().c_str(), "%dx%d", &s.width, &s.height) != 2)
-        return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (source attributes missing)", path);
-    s.heightfieldHash = std::strtoull(hash->value().c_str(), nullptr, 16);
-    s.edge = edge->value();
-    s.depth = std::strtof(depth->value().c_str(), nullptr);
+    auto bad = [&](const char* what, const std::string& value) {
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: relief.source.{} '{}' is not {}; "
+                         "bake it again",
+                         path, what, value,
+                         std::string_view(what) == "hash"   ? "16 hex digits"
+                         : std::string_view(what) == "size" ? "WxH within the size limit"
+                         : std::string_view(what) == "edge" ? "clamp or repeat"
+                                                            : "a depth from 0 to 1e6");
+    };
+    const char* hashEnd = p.hash.data() + p.hash.size();
+    if (p.hash.size() != 16 ||
+        std::from_chars(p.hash.data(), hashEnd, s.heightfieldHash, 16).ptr != hashEnd)
+        return bad("hash", p.hash);
+    char tail = 0;
+    if (std::sscanf(p.size.c_str(), "%dx%d%c", &s.width, &s.height, &tail) != 2 || s.width < 1 ||
+        s.height < 1 || s.width > kMaxDimension || s.height > kMaxDimension ||
+        p.size != fmt::format("{}x{}", s.width, s.height))
+        return bad("size", p.size);
+    if (p.edge != "clamp" && p.edge != "repeat") return bad("edge", p.edge);
+    s.edge = p.edge;
+    double depth = 0;
+    if (!isNumber(p.depth, depth) || depth < 0 || depth > 1e6) return bad("depth", p.depth);
+    s.depth = float(depth);
     return s;
 }
 
-Result<MapArray> readArray(const std::string& path, Imf::MultiPartInputFile& file, int part) {
+// A part's relief attributes; null when one is missing or has the wrong type.
+std::optional<PartAttributes> readAttributes(const Imf::Header& h, int index) {
+    const char* names[] = {"relief.technique",   "relief.array",       "relief.parameters",
+                           "relief.source.hash", "relief.source.size", "relief.source.edge",
+                           "relief.source.depth"};
+    PartAttributes p;
+    std::string* fields[] = {&p.technique, &p.array, &p.parameters, &p.hash,
+                             &p.size,      &p.edge,  &p.depth};
+    for (size_t k = 0; k < std::size(names); ++k) {
+        const auto* a = attribute<Imf::StringAttribute>(h, names[k]);
+        if (!a) return std::nullopt;
+        *fields[k] = a->value();
+    }
+    const auto* parts = attribute<Imf::IntAttribute>(h, "relief.parts");
+    if (!parts) return std::nullopt;
+    p.parts = parts->value();
+    p.index = index;
+    return p;
+}
+
+Result<MapArray> readArray(const std::string& path, Imf::MultiPartInputFile& file, int part,
+                           const std::string& name) {
     const Imf::Header& h = file.header(part);
     MapArray a;
-    const auto* name = attribute<Imf::StringAttribute>(h, "relief.array");
-    a.name = name ? name->value() : "";
+    a.name = name;
     const Imath::Box2i window = h.dataWindow();
     const int64_t w = int64_t(window.max.x) - window.min.x + 1, ht = int64_t(window.max.y) - window.min.y + 1;
     a.channels = 0;
@@ -143,12 +250,20 @@ const TechniqueMaps* MapFile::find(const std::string& technique) const {
 Status writeMapFile(const std::string& path, const MapFile& maps) {
     std::vector<Imf::Header> headers;
     std::vector<const MapArray*> arrays;
+    int parts = 0;
+    for (const TechniqueMaps& t : maps.techniques) parts += int(t.arrays.size());
+    std::set<std::string> names;
     for (const TechniqueMaps& t : maps.techniques)
         for (const MapArray& a : t.arrays) {
             if (a.channels < 1 || a.channels > kMaxChannels || a.width < 1 || a.height < 1 ||
                 a.data.size() != size_t(a.width) * size_t(a.height) * size_t(a.channels))
                 return makeError(ErrorKind::Runtime, "{}: map array {}/{} is malformed", path, t.technique, a.name);
-            headers.push_back(partHeader(maps, t, a));
+            // OpenEXR's own refusal of twin part names would reach the user as its message.
+            if (!names.insert(t.technique + "/" + a.name).second)
+                return makeError(ErrorKind::BadArgument, "{}: maps {}/{} given twice", path,
+                                 t.technique, a.name);
+            headers.push_back(
+                partHeader(maps, attributesOf(maps, t, a, int(headers.size()), parts), a));
             arrays.push_back(&a);
         }
     if (headers.empty()) return makeError(ErrorKind::BadArgument, "{}: no maps to write", path);
@@ -169,31 +284,76 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
 
 namespace {
 
-// Every part must carry relief's attributes and one source; parts of a technique are grouped.
+// Every part must carry relief's attributes (each validated), one source and a checksum that
+// matches its data; parts of a technique are grouped.
 Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file) {
     MapFile maps;
+    std::optional<PartAttributes> first;
+    std::set<std::string> seen;
     for (int p = 0; p < file.parts(); ++p) {
         const Imf::Header& h = file.header(p);
         const auto* version = attribute<Imf::IntAttribute>(h, "relief.version");
-        const auto* technique = attribute<Imf::StringAttribute>(h, "relief.technique");
-        const auto* parameters = attribute<Imf::StringAttribute>(h, "relief.parameters");
-        if (!version || !technique || !parameters)
+        if (!version)
             return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
+        if (version->value() < kMapFormatVersion)
+            return makeError(ErrorKind::Unsupported,
+                             "{}: map format version {} has no checksum (this relief "
+                             "reads version {} only); bake the maps again with relief bake",
+                             path, version->value(), kMapFormatVersion);
         if (version->value() != kMapFormatVersion)
             return makeError(ErrorKind::Unsupported, "{}: map format version {} (this relief reads {}); bake it again",
                              path, version->value(), kMapFormatVersion);
-        auto source = readSource(path, h);
+        auto attributes = readAttributes(h, p);
+        if (!attributes)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: not a relief map file (part {} lacks relief attributes)", path,
+                             p);
+        const auto* checksum = attribute<Imf::StringAttribute>(h, "relief.checksum");
+        if (!checksum)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part {} has no checksum; bake it again", path,
+                             p);
+        const std::string part = attributes->technique + "/" + attributes->array;
+        auto parameters = decodeParameters(attributes->parameters);
+        if (!isName(attributes->technique) || !isName(attributes->array) || h.name() != part ||
+            !parameters)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part {} ('{}') has malformed "
+                             "names or parameters; bake it again",
+                             path, p, h.name());
+        if (attributes->parts != file.parts())
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: it says {} parts but holds {}; "
+                             "bake it again",
+                             path, attributes->parts, file.parts());
+        if (!seen.insert(part).second)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part '{}' appears twice", path, part);
+        auto source = parseSource(path, *attributes);
         if (!source) return source.error();
-        if (p == 0) maps.source = *source;
-        else if (source->heightfieldHash != maps.source.heightfieldHash)
+        if (p == 0) {
+            maps.source = *source;
+            first = *attributes;
+        } else if (attributes->hash != first->hash || attributes->size != first->size ||
+                   attributes->edge != first->edge || attributes->depth != first->depth)
             return makeError(ErrorKind::InvalidInput, "{}: parts come from different heightfields", path);
-        auto array = readArray(path, file, p);
+        auto array = readArray(path, file, p, attributes->array);
         if (!array) return array.error();
-        TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(technique->value()));
+        const std::string computed = checksumText(partChecksum(*attributes, *array));
+        if (checksum->value() != computed)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: part '{}' has checksum {} but "
+                             "its data and attributes give {}; bake it again",
+                             path, part, checksum->value(), computed);
+        TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(attributes->technique));
         if (!t) {
-            maps.techniques.push_back({technique->value(), decodeParameters(parameters->value()), {}});
+            maps.techniques.push_back({attributes->technique, std::move(*parameters), {}});
             t = &maps.techniques.back();
-        }
+        } else if (t->parameters != *parameters)
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: map file damaged: the parts of '{}' disagree on "
+                             "its parameters",
+                             path, attributes->technique);
         t->arrays.push_back(std::move(*array));
     }
     return maps;
@@ -233,7 +393,8 @@ Status checkMapSource(const std::string& path, const MapSource& stored, const Ma
                          "this one {:016x}); bake again", path, stored.heightfieldHash, current.heightfieldHash);
     if (stored.edge != current.edge)
         return makeError(ErrorKind::InvalidInput, "{}: maps were baked for --edge {}, not {}", path, stored.edge, current.edge);
-    if (std::abs(stored.depth - current.depth) > 1e-6f * std::max(1.0f, current.depth))
+    // Negated so that a NaN on either side is a mismatch, never a pass.
+    if (!(std::abs(stored.depth - current.depth) <= 1e-6f * std::max(1.0f, current.depth)))
         return makeError(ErrorKind::InvalidInput, "{}: maps were baked for depth {}, not {}", path, stored.depth, current.depth);
     return {};
 }

@@ -13,7 +13,9 @@
 
 namespace relief {
 
-inline constexpr int kMapFormatVersion = 1;
+// 2: every part carries "relief.checksum" (CRC-32 over its attributes and data) and
+// "relief.parts"; version 1 maps (no checksum) are refused with a message to bake them again.
+inline constexpr int kMapFormatVersion = 2;
 
 struct MapArray {
     std::string name;  // e.g. "level0", "cones"

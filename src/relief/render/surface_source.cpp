@@ -36,6 +36,16 @@ Result<SourceSpec> parseSourceSpec(const std::string& source) {
 Result<std::shared_ptr<const Heightfield>> loadHeightfield(const SurfaceOptions& o) {
     auto spec = parseSourceSpec(o.source);
     if (!spec) return spec.error();
+    // A generator reads no file: options that describe one would be ignored.
+    if (o.source.rfind("gen:", 0) == 0)
+        for (const auto& [given, option] : {std::pair{!o.raw.empty(), "--raw"},
+                                            std::pair{!o.heightRange.empty(), "--height-range"},
+                                            std::pair{o.channel != "luminance", "--channel"}})
+            if (given)
+                return makeError(ErrorKind::BadArgument,
+                                 "{}: {} describes a file; a generator "
+                                 "reads none",
+                                 o.source, option);
     LoadOptions load;
     load.invert = o.invert;
     load.maxSamples = o.maxSamples;

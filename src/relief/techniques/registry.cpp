@@ -410,6 +410,14 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
         if (!input.maps)
             return makeError(ErrorKind::InvalidInput, "{}: holds no maps for '{}'; bake them with "
                              "relief bake --maps {}", mapsPath, info.name, info.name);
+        // The row's check decodes the maps and spot-checks their invariant (cone widths, pyramid
+        // maxima, distances): refused here, with the file named, before any tracer is made.
+        if (info.check)
+            if (Status s = info.check(input); !s)
+                return s.error().kind == ErrorKind::InvalidInput
+                           ? makeError(ErrorKind::InvalidInput, "{}: {}", mapsPath,
+                                       s.error().message)
+                           : s.error();
     }
     return input;
 }

@@ -582,6 +582,60 @@ Status checkBaked(const TechniqueInput& input, std::string_view technique, int v
                          cones->width, cones->height, cones->channels, s.width(), s.height());
     return {};
 }
+
+// Spot check of a decoded baked map (maps are checksummed, so this catches values edited by hand
+// or written by a faulty builder): at up to 4096 texels spread over the map, the apex is finite,
+// not below the texel's sample and not above the box top, the ratio lies in [0, cMax], and for
+// the strict kinds no sample within 2 texels lies inside the cone (c·(h_q − a) ≤ dist, with the
+// footprint for SafeStrict and the texel centre for FaithfulStrict; relaxed cones may contain
+// samples by design). Quantization only narrows cones and raises apexes, so it passes too.
+Status spotCheckCones(const Surface& s, const ConeMap& map, ConeKind kind,
+                      std::string_view technique) {
+    const float tolerance = 1e-4f * std::max(1.0f, s.depth());
+    const float cMax = coneRatioMax(s) * (1.0f + 1e-5f);
+    const size_t count = size_t(map.width()) * size_t(map.height());
+    const size_t stride = std::max<size_t>(1, count / 4096);
+    auto refuse = [&](int i, int j, const std::string& what) {
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: baked 'cones' texel ({}, {}) {}; the maps were "
+                         "edited or built wrongly, bake them again",
+                         technique, i, j, what);
+    };
+    for (size_t k = stride / 2; k < count; k += stride) {
+        const int i = int(k % size_t(map.width())), j = int(k / size_t(map.width()));
+        const vec2 t = map.texels()[k];
+        const float a = t.x, c = t.y;
+        if (!(a >= s.sampleZ(i, j) - tolerance && a <= s.depth() * (1.0f + 1e-5f) + tolerance))
+            return refuse(i, j,
+                          fmt::format("has apex {} outside [sample {}, depth {}]", a,
+                                      s.sampleZ(i, j), s.depth()));
+        if (!(c >= 0.0f && c <= cMax))
+            return refuse(i, j, fmt::format("has ratio {} outside [0, {}]", c, cMax));
+        if (kind == ConeKind::FaithfulRelaxed) continue;
+        for (int qj = j - 2; qj <= j + 2; ++qj)
+            for (int qi = i - 2; qi <= i + 2; ++qi) {
+                if (s.edge() == EdgeMode::Clamp &&
+                    (qi < 0 || qj < 0 || qi >= s.width() || qj >= s.height()))
+                    continue;
+                const float rise = s.sampleZ(qi, qj) - a;
+                if (rise <= 0.0f) continue;
+                // Distance from the footprint [i, i+1]×[j, j+1] (or its centre) to the sample.
+                const float cx = float(qi) + 0.5f, cy = float(qj) + 0.5f;
+                const float dx = kind == ConeKind::SafeStrict
+                                     ? std::max({float(i) - cx, 0.0f, cx - float(i + 1)})
+                                     : cx - (float(i) + 0.5f);
+                const float dy = kind == ConeKind::SafeStrict
+                                     ? std::max({float(j) - cy, 0.0f, cy - float(j + 1)})
+                                     : cy - (float(j) + 0.5f);
+                if (c * rise > std::sqrt(dx * dx + dy * dy) * (1.0f + 1e-4f) + tolerance)
+                    return refuse(i, j,
+                                  fmt::format("has ratio {}, wider than the sample at ({}, {}) "
+                                              "allows ({} over {})",
+                                              c, qi, qj, std::sqrt(dx * dx + dy * dy), rise));
+            }
+    }
+    return {};
+}
 }  // namespace
 
 Result<std::shared_ptr<const ConeMap>> coneMapFor(const TechniqueInput& input,
@@ -592,8 +646,11 @@ Result<std::shared_ptr<const ConeMap>> coneMapFor(const TechniqueInput& input,
     if (input.maps) {
         if (Status status = checkBaked(input, technique, variant, encoding); !status.ok())
             return status.error();
-        return std::make_shared<const ConeMap>(
-            decodeCones(s, *input.maps->find("cones"), encoding));
+        auto map =
+            std::make_shared<const ConeMap>(decodeCones(s, *input.maps->find("cones"), encoding));
+        if (Status status = spotCheckCones(s, *map, kind, technique); !status.ok())
+            return status.error();
+        return map;
     }
     return std::make_shared<const ConeMap>(
         decodeCones(s, encodeCones(s, buildCones(s, kind), encoding), encoding));

@@ -97,7 +97,10 @@ public:
     // Baked form (max_pyramid_maps.cpp): arrays "level0" .. "level<top>", level L of
     // widthAt(L) × heightAt(L) nodes, 1 channel, row-major (untiled).
     std::vector<MapArray> toArrays() const;
-    // From those arrays; an error naming the array when one is missing or has the wrong size.
+    // Nodes against their children and sampled level-0 cells against `surface` (fromArrays).
+    Status spotCheck(const Surface& surface, const std::string& technique) const;
+    // From those arrays; an error naming the array when one is missing or has the wrong size,
+    // or when spotCheck fails.
     static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps);
 
 private:

@@ -59,11 +59,48 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
             for (int x = 0; x < w; ++x)
                 out.values[out.index(x, y)] = a->data[size_t(y) * size_t(w) + size_t(x)];
     }
+    if (Status s = pyramid.spotCheck(surface, maps.technique); !s) return s.error();
     if (maps.find(levelName(layout.levels)))
         return makeError(ErrorKind::InvalidInput, "{} maps: array '{}' beyond the top level {} of "
                          "this surface's pyramid", maps.technique, levelName(layout.levels),
                          layout.topLevel());
     return pyramid;
+}
+
+// Baked maps are checksummed; this catches values edited by hand or a faulty builder. Every node
+// above level 0 must equal the max of its children (exact: max rounds nothing), and up to 4096
+// level-0 cells spread over the map the max of the cell's corners. Linear in the nodes, far less
+// than reading the file.
+Status MaxPyramid::spotCheck(const Surface& surface, const std::string& technique) const {
+    auto refuse = [&](int level, int x, int y, float stored, float expected) {
+        return makeError(ErrorKind::InvalidInput,
+                         "{} maps: '{}' node ({}, {}) is {} but {} gives {}; the "
+                         "maps were edited or built wrongly, bake them again",
+                         technique, levelName(level), x, y, stored,
+                         level == 0 ? "the heightfield" : "its children", expected);
+    };
+    for (int level = 1; level < m_layout.levels; ++level) {
+        const int fineW = m_layout.widthAt(level - 1), fineH = m_layout.heightAt(level - 1);
+        for (int y = 0; y < m_layout.heightAt(level); ++y)
+            for (int x = 0; x < m_layout.widthAt(level); ++x) {
+                const int x1 = std::min(2 * x + 1, fineW - 1), y1 = std::min(2 * y + 1, fineH - 1);
+                const float expected =
+                    std::max(std::max(at(level - 1, 2 * x, 2 * y), at(level - 1, x1, 2 * y)),
+                             std::max(at(level - 1, 2 * x, y1), at(level - 1, x1, y1)));
+                if (at(level, x, y) != expected)
+                    return refuse(level, x, y, at(level, x, y), expected);
+            }
+    }
+    const VertexGrid vertices(surface);
+    const size_t count = size_t(m_layout.cellsX) * size_t(m_layout.cellsY);
+    const size_t stride = std::max<size_t>(1, count / 4096);
+    for (size_t k = stride / 2; k < count; k += stride) {
+        const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
+        const float expected = std::max(std::max(vertices.at(x, y), vertices.at(x + 1, y)),
+                                        std::max(vertices.at(x, y + 1), vertices.at(x + 1, y + 1)));
+        if (at(0, x, y) != expected) return refuse(0, x, y, at(0, x, y), expected);
+    }
+    return {};
 }
 
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {

@@ -69,12 +69,61 @@ Result<OrientedPyramid> OrientedPyramid::fromArrays(const PyramidLayout& layout,
 OrientedMaps::OrientedMaps(std::shared_ptr<const MaxPyramid> maxima, OrientedPyramid planes)
     : maxima(std::move(maxima)), planes(std::move(planes)) {}
 
+namespace {
+// Baked planes spot-checked (the max pyramid is checked by maxPyramidFor): at up to 64 nodes of
+// each level, on a 5×5 grid over the node's footprint (clipped to the box in clamp mode), the
+// plane as the tracer evaluates it and the node's flat maximum lie on or above S.
+Status spotCheckPlanes(const Surface& s, const PyramidLayout& layout,
+                       const OrientedPyramid& planes) {
+    const float tolerance = 1e-4f * std::max(1.0f, s.depth());
+    for (int level = 1; level < layout.levels; ++level) {
+        const size_t count = size_t(layout.widthAt(level)) * size_t(layout.heightAt(level));
+        const size_t stride = std::max<size_t>(1, count / 64);
+        for (size_t k = stride / 2; k < count; k += stride) {
+            const int nx = int(k % size_t(layout.widthAt(level))),
+                      ny = int(k / size_t(layout.widthAt(level)));
+            const OrientedNode& n = planes.at(level, nx, ny);
+            const int lo = nx << level, loY = ny << level;
+            const float nodeX = float(layout.firstCell + lo) + 0.5f,
+                        nodeY = float(layout.firstCell + loY) + 0.5f;
+            float x0 = nodeX,
+                  x1 = float(layout.firstCell + std::min(lo + (1 << level), layout.cellsX)) + 0.5f;
+            float y0 = nodeY,
+                  y1 = float(layout.firstCell + std::min(loY + (1 << level), layout.cellsY)) + 0.5f;
+            if (!layout.repeat) {
+                x0 = std::max(x0, 0.0f), x1 = std::min(x1, float(s.width()));
+                y0 = std::max(y0, 0.0f), y1 = std::min(y1, float(s.height()));
+            }
+            const float scale = kInverseSides[size_t(level)];
+            for (int j = 0; j <= 4; ++j)
+                for (int i = 0; i <= 4; ++i) {
+                    const float x = x0 + (x1 - x0) * float(i) / 4.0f,
+                                y = y0 + (y1 - y0) * float(j) / 4.0f;
+                    const float plane = n.c00 + (n.c10 - n.c00) * scale * (x - nodeX) +
+                                        (n.c01 - n.c00) * scale * (y - nodeY);
+                    const float z = s.heightAt(x, y);
+                    if (!(plane >= z - tolerance && n.zmax >= z - tolerance))
+                        return makeError(ErrorKind::InvalidInput,
+                                         "quadtree-oriented maps: '{}{}' node ({}, {}) "
+                                         "lies below the surface at ({}, {}) (plane {}, max {}, "
+                                         "surface {}); the maps "
+                                         "were edited or built wrongly, bake them again",
+                                         "oriented", level, nx, ny, x, y, plane, n.zmax, z);
+                }
+        }
+    }
+    return {};
+}
+}  // namespace
+
 Result<std::shared_ptr<const OrientedMaps>> orientedMapsFor(const TechniqueInput& input) {
     if (!input.maps) return std::make_shared<const OrientedMaps>(*input.surface);
     auto maxima = maxPyramidFor(input);
     if (!maxima) return maxima.error();
     auto planes = OrientedPyramid::fromArrays((*maxima)->layout(), *input.maps);
     if (!planes) return planes.error();
+    if (Status s = spotCheckPlanes(*input.surface, (*maxima)->layout(), *planes); !s)
+        return s.error();
     return std::make_shared<const OrientedMaps>(std::move(*maxima), std::move(*planes));
 }
 

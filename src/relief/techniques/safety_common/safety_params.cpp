@@ -49,16 +49,16 @@ Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps
     const BuildOptions asked = buildOptionsFrom(params);
     const BuildOptions defaults;
     if (asked.phiMaxDeg != defaults.phiMaxDeg && asked.phiMaxDeg != baked->phiMaxDeg)
-        return makeError(ErrorKind::BadArgument,
+        return makeError(ErrorKind::InvalidInput,
                          "{}: maps were baked with phi-max {}, not {}; bake them again",
                          maps.technique, baked->phiMaxDeg, asked.phiMaxDeg);
     if ((asked.exterior && !baked->exterior) || (asked.exteriorSlope && !baked->exteriorSlope))
-        return makeError(ErrorKind::BadArgument,
+        return makeError(ErrorKind::InvalidInput,
                          "{}: maps were baked for all rays (or with the all-vertex cone slope), "
                          "not as asked (exterior / exterior-slope); bake them again",
                          maps.technique);
     if (asked.isotropic && !baked->isotropic)
-        return makeError(ErrorKind::BadArgument,
+        return makeError(ErrorKind::InvalidInput,
                          "{}: maps were baked directional, not isotropic; bake them again",
                          maps.technique);
     return *baked;
