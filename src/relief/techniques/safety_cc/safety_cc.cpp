@@ -13,21 +13,10 @@ safety::CylinderConeMap buildCone(const Surface& surface, const safety::BuildOpt
 }  // namespace
 
 Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
-    safety::BuildOptions build = safety::buildOptionsFrom(input.params);
-    std::shared_ptr<const safety::CylinderConeMap> map;
-    if (input.maps) {
-        auto baked = safety::bakedOptions(input.params, *input.maps);
-        if (!baked) return baked.error();
-        build = *baked;
-        auto loaded = safety::coneMapFromArrays(*input.maps, input.surface->width(),
-                                                input.surface->height());
-        if (!loaded) return loaded.error();
-        map = std::make_shared<const safety::CylinderConeMap>(std::move(*loaded));
-    } else {
-        if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
-        map = std::make_shared<const safety::CylinderConeMap>(buildCone(*input.surface, build));
-    }
-    return SafetyCcTracer(input.surface, safety::ConeShape(std::move(map)),
+    auto map = safety::mapFor<safety::CylinderConeMap>(input, safety::coneMapFromArrays, buildCone);
+    if (!map) return map.error();
+    auto& [shape, build] = *map;
+    return SafetyCcTracer(input.surface, safety::ConeShape(std::move(shape)),
                           safety::marchOptionsFrom(input.params, build));
 }
 

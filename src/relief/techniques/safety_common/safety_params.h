@@ -1,8 +1,12 @@
 #pragma once
 // Parameters shared by `safety-sd` and `safety-cc` and how they meet baked maps: the map's own
 // build parameters (phi-max, isotropic, exterior, exterior-slope) win; asking for a different non-default value is an error.
+#include <relief/techniques/safety_common/safety_maps.h>
 #include <relief/techniques/safety_common/safety_march.h>
 #include <relief/techniques/technique.h>
+
+#include <memory>
+#include <utility>
 
 namespace relief::safety {
 
@@ -56,5 +60,23 @@ std::string viewWarning(const ParamValues& params, std::span<const Ray> rays);
 
 // The build options of baked maps, checked against the requested parameters.
 Result<BuildOptions> bakedOptions(const ParamValues& params, const TechniqueMaps& maps);
+
+// A safety row's map and the options it was built with: decoded from input.maps by
+// `decode(maps, W, H)` (the baked options win) or built now by `build(surface, options)`.
+template <class Map, class Decode, class Build>
+Result<std::pair<std::shared_ptr<const Map>, BuildOptions>> mapFor(const TechniqueInput& input,
+                                                                    Decode&& decode,
+                                                                    Build&& build) {
+    if (input.maps) {
+        auto baked = bakedOptions(input.params, *input.maps);
+        if (!baked) return baked.error();
+        auto loaded = decode(*input.maps, input.surface->width(), input.surface->height());
+        if (!loaded) return loaded.error();
+        return std::pair{std::make_shared<const Map>(std::move(*loaded)), *baked};
+    }
+    const BuildOptions options = buildOptionsFrom(input.params);
+    if (Status ok = checkBuildOptions(*input.surface, options); !ok) return ok.error();
+    return std::pair{std::make_shared<const Map>(build(*input.surface, options)), options};
+}
 
 }  // namespace relief::safety

@@ -7,22 +7,11 @@ constexpr const char* kName = "safety-sd";
 }
 
 Result<SafetySdTracer> makeSafetySdTracer(const TechniqueInput& input) {
-    safety::BuildOptions build = safety::buildOptionsFrom(input.params);
-    std::shared_ptr<const safety::DistanceMap> map;
-    if (input.maps) {
-        auto baked = safety::bakedOptions(input.params, *input.maps);
-        if (!baked) return baked.error();
-        build = *baked;
-        auto loaded = safety::distanceMapFromArrays(*input.maps, input.surface->width(),
-                                                    input.surface->height());
-        if (!loaded) return loaded.error();
-        map = std::make_shared<const safety::DistanceMap>(std::move(*loaded));
-    } else {
-        if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
-        map = std::make_shared<const safety::DistanceMap>(
-            safety::buildDistanceMap(*input.surface, build));
-    }
-    return SafetySdTracer(input.surface, safety::DistanceShape(std::move(map)),
+    auto map = safety::mapFor<safety::DistanceMap>(input, safety::distanceMapFromArrays,
+                                                   safety::buildDistanceMap);
+    if (!map) return map.error();
+    auto& [shape, build] = *map;
+    return SafetySdTracer(input.surface, safety::DistanceShape(std::move(shape)),
                           safety::marchOptionsFrom(input.params, build));
 }
 
