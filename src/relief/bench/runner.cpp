@@ -353,7 +353,10 @@ private:
                 std::shared_ptr<const Surface> surface, const Camera& camera, const Image<Hit>& reference,
                 bool images) {
         const TechniqueInput input = inputAt(row, surface, cap);
-        auto& [tracer, createSeconds] = row.cpu[cap];
+        // References, not a structured binding: lambdas capture them (clang 14).
+        auto& built = row.cpu[cap];
+        std::unique_ptr<Tracer>& tracer = built.first;
+        double& createSeconds = built.second;
         if (!tracer) createSeconds = timeOnce([&] { tracer = orFail(row.spec->info->create(input)); }).wall;
         BenchRow r = newRow(row, map, "cpu", elevation, cap, input.params);
         r.buildSeconds += createSeconds;
