@@ -1,4 +1,6 @@
 // CLI tests as data: command line, expected exit code, expected fragments of stdout / stderr.
+#include "support/cli_case.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -11,20 +13,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliCase {
-    const char* name;
-    std::string args;  // after "relief"; {tmp} and {src} are substituted
-    int exitCode;
-    const char* stdoutFragment;
-    const char* stderrFragment;
-};
-
-std::string readFile(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
+using relief::testing::CliCase;
+using relief::testing::readFile;
 
 class Cli : public ::testing::Test {
 protected:
@@ -43,23 +33,7 @@ protected:
     }
     static void TearDownTestSuite() { fs::remove_all(tmp); }
 
-    static void run(const CliCase& c) {
-        std::string args = c.args;
-        for (auto [key, value] : {std::pair<std::string, std::string>{"{tmp}", tmp.string()},
-                                  {"{src}", RELIEF_SOURCE_DIR}})
-            for (size_t p; (p = args.find(key)) != std::string::npos;) args.replace(p, key.size(), value);
-        const fs::path out = tmp / "stdout.txt", err = tmp / "stderr.txt";
-        const std::string command = std::string(RELIEF_CLI_PATH) + " " + args + " >" + out.string() +
-                                    " 2>" + err.string();
-        const int status = std::system(command.c_str());
-        const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        const std::string stdoutText = readFile(out), stderrText = readFile(err);
-        EXPECT_EQ(code, c.exitCode) << c.name << ": relief " << args << "\nstderr: " << stderrText;
-        EXPECT_NE(stdoutText.find(c.stdoutFragment), std::string::npos)
-            << c.name << ": stdout lacks '" << c.stdoutFragment << "':\n" << stdoutText;
-        EXPECT_NE(stderrText.find(c.stderrFragment), std::string::npos)
-            << c.name << ": stderr lacks '" << c.stderrFragment << "':\n" << stderrText;
-    }
+    static void run(const CliCase& c) { relief::testing::runCliCase(c, tmp); }
     static inline fs::path tmp;
 };
 

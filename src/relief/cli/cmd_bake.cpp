@@ -56,6 +56,7 @@ void runBake(const BakeOptions& o) {
     std::vector<double> seconds;
     for (size_t k = 0; k < infos.size(); ++k) {
         TechniqueInput input{surface, orFail(resolveParams(*infos[k], overrides[k])), nullptr};
+        orFail(reserveMapMemory(*infos[k], *surface));
         const auto start = std::chrono::steady_clock::now();
         file.techniques.push_back(orFail(infos[k]->buildMaps(input)));
         seconds.push_back(

@@ -1,5 +1,7 @@
 // relief info HEIGHTFIELD: size, value range, histogram summary, a suggested depth.
 #include <relief/cli/common.h>
+#include <relief/core/memory_budget.h>
+#include <relief/core/progress.h>
 #include <relief/core/stats.h>
 
 #include <nlohmann/json.hpp>
@@ -21,7 +23,8 @@ struct InfoOptions {
 double slopeLimitedDepth(const Heightfield& hf) {
     std::vector<double> slopes;
     slopes.reserve(hf.sampleCount());
-    for (int j = 0; j < hf.height; ++j)
+    Progress progress("info", hf.height);  // minutes on the largest maps
+    for (int j = 0; j < hf.height; ++j, progress.advance())
         for (int i = 0; i < hf.width; ++i) {
             if (i + 1 < hf.width) slopes.push_back(std::abs(hf.at(i + 1, j) - hf.at(i, j)));
             if (j + 1 < hf.height) slopes.push_back(std::abs(hf.at(i, j + 1) - hf.at(i, j)));
@@ -32,6 +35,11 @@ double slopeLimitedDepth(const Heightfield& hf) {
 
 void runInfo(const InfoOptions& o) {
     const auto hf = orFail(loadHeightfield(o.surface));
+    // The statistics hold every height as a double (and a copy while summarizing), then up to two
+    // slopes per sample: the peak, next to the heightfield itself.
+    orFail(reserveMemory(hf->sampleCount() * int64_t(sizeof(float) + 3 * sizeof(double)),
+                         fmt::format("{}: statistics of {}x{} samples", o.surface.source, hf->width,
+                                     hf->height)));
     const std::vector<double> values(hf->samples.begin(), hf->samples.end());
     const Summary s = summarize(values);
     double lo = 1.0;

@@ -3,6 +3,7 @@
 // through its tracer, or the visibility-curve renderer) on the base surface (the plane, or the
 // sphere for rows that can draw it), measured against that surface's exact reference.
 #include <relief/cli/common.h>
+#include <relief/core/memory_budget.h>
 #include <relief/core/parallel.h>
 #include <relief/core/progress.h>
 #include <relief/io/image_write.h>
@@ -357,12 +358,20 @@ void runRender(const RenderOptions& o) {
     if (!o.technique.mapsPath.empty() && !readsMaps)
         throw CommandFailed{makeError(ErrorKind::Unsupported, "--maps: {} read{} no maps",
                                       o.technique.name, many ? "" : "s")};
+    const ivec2 size = orFail(parseImageSize(o.size));
+    // Checked before anything is made: the reference hits, what each earlier row keeps until the
+    // end (its hits and colour), and the last row's render peak (its diagnostic images, made
+    // after the render's own buffers are gone, stay under it).
+    const int64_t pixels = int64_t(size.x) * size.y;
+    const int64_t kept = int64_t(sizeof(Hit) + sizeof(Rgb8)) * int64_t(names.size() - 1);
+    orFail(reserveMemory(pixels * (int64_t(sizeof(Hit)) + kept) + renderPeakBytes(pixels, o.shadows),
+                         fmt::format("render --size {}x{} with {} technique(s)", size.x, size.y,
+                                     names.size())));
     if (!o.outDir.empty()) {
         std::error_code ec;
         std::filesystem::create_directories(o.outDir, ec);
         if (ec) throw CommandFailed{makeError(ErrorKind::Io, "{}: cannot create folder: {}", o.outDir, ec.message())};
     }
-    const ivec2 size = orFail(parseImageSize(o.size));
     auto hf = orFail(loadHeightfield(o.surface));
     auto surface = orFail(makeSurface(o.surface, hf));
     const auto sphereSurface = sphere ? curves::makeSphere(*surface, o.radius) : nullptr;

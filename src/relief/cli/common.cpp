@@ -1,5 +1,6 @@
 #include <relief/cli/common.h>
 
+#include <relief/core/memory_budget.h>
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
 
@@ -48,6 +49,22 @@ void addSurfaceOptions(CLI::App& app, SurfaceOptions& o) {
     app.add_option("--max-samples", o.maxSamples, "refuse heightfields with more samples")
         ->check(CLI::Range(int64_t(1), int64_t(kMaxDimension) * kMaxDimension))
         ->capture_default_str();
+    addMemoryOption(app);
+}
+
+void addMemoryOption(CLI::App& app) {
+    // Sets the process-wide budget as it is parsed: nothing outlives the app (see main.cpp's -q).
+    app.add_option_function<std::string>(
+           "--max-memory", [](const std::string& text) { setMemoryBudget(*parseMemorySize(text)); },
+           fmt::format("memory budget checked before large allocations: BYTES or NNNK/NNNM/NNNG "
+                       "(default: half of physical memory, {} here)",
+                       formatBytes(defaultMemoryBudget())))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                auto parsed = parseMemorySize(text);
+                return parsed ? std::string() : parsed.error().message;
+            },
+            "SIZE"));
 }
 
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& o) {

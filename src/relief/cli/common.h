@@ -36,7 +36,9 @@ CLI::Validator finiteRange(double lo, double hi);
 inline constexpr double kMaxAzimuth = 360.0;
 inline constexpr int kMaxThreads = 4096;
 
+// The surface options include --max-memory (addMemoryOption): every command that loads a map.
 void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
+void addMemoryOption(CLI::App& app);
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
 void addThreadsOption(CLI::App& app, int& threads);
 

@@ -1,5 +1,6 @@
 // relief <command> [options]: the command table. Each command lives in cmd_<name>.cpp.
 #include <relief/cli/common.h>
+#include <relief/core/memory_budget.h>
 #include <relief/core/progress.h>
 #include <relief/io/output.h>
 
@@ -34,6 +35,7 @@ namespace relief::cli {
 
 int runCommandLine(int argc, char** argv) {
     CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
+    setMemoryBudget(defaultMemoryBudget());  // a previous command line in this process may have set it
     addCommands(app);
     // Output lost on a full disk, a closed pipe or a closed stdout is an I/O error, not exit 0.
     const auto finish = [](int code) {

@@ -1,6 +1,7 @@
 #include <relief/io/heightfield_io.h>
 
 #include <relief/core/generators.h>
+#include <relief/core/memory_budget.h>
 
 #include <charconv>
 
@@ -34,6 +35,8 @@ Result<Heightfield> loadGenerator(const std::string& spec, const LoadOptions& op
                          "'{}': a generator is written gen:NAME:WxH[:seed], e.g. gen:fbm:512x512:7",
                          spec);
     if (Status s = checkDimensions(spec, w, h, options.maxSamples); !s) return s.error();
+    if (Status s = reserveMemory(w * h * int64_t(sizeof(float)), fmt::format("{}: generating", spec)); !s)
+        return s.error();
     return generateHeightfield(parts[1], int(w), int(h), uint64_t(seed));
 }
 

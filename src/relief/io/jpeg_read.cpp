@@ -218,6 +218,10 @@ public:
     }
 
     int channels() const { return m_components >= 3 ? 3 : 1; }
+    // decode()'s buffer; readHeader already holds the compressed file.
+    int64_t scratchBytes() const {
+        return int64_t(m_width) * m_height * channels() + int64_t(m_bytes.size());
+    }
 
 private:
     Error corrupt(const char* reason) const {
@@ -241,6 +245,7 @@ public:
         m_width = header->width;
         return header;
     }
+    int64_t scratchBytes() const override { return m_stream.scratchBytes(); }
 
     Status readPixels(std::span<float> pixels) override {
         const PixelLayout layout{Scalar::U8, std::endian::native, m_stream.channels()};
@@ -265,6 +270,7 @@ public:
     explicit JpegColorDecoder(FileReader& file) : m_stream(file) {}
 
     Result<ImageHeader> readHeader() override { return m_stream.readHeader(); }
+    int64_t scratchBytes() const override { return m_stream.scratchBytes(); }
 
     Status readPixels(std::span<Rgb8> pixels) override {
         auto data = m_stream.decode(3);

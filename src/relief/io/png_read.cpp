@@ -30,6 +30,11 @@ public:
     Status readRows(const std::function<void(const unsigned char* row, int64_t y)>& sink);
 
     int64_t width() const { return png_get_image_width(m_png, m_info); }
+    // The row buffer of readRows: every row of an interlaced image (its passes refine all of it).
+    int64_t bufferBytes() const {
+        const bool interlaced = png_get_interlace_type(m_png, m_info) != PNG_INTERLACE_NONE;
+        return int64_t(png_get_rowbytes(m_png, m_info)) * (interlaced ? height() : 1);
+    }
     int64_t height() const { return png_get_image_height(m_png, m_info); }
     PixelLayout layout() const {
         return {png_get_bit_depth(m_png, m_info) == 16 ? Scalar::U16 : Scalar::U8,
@@ -41,6 +46,7 @@ private:
     static void onWarning(png_structp, png_const_charp) {}  // benign: the image still decodes
     static void onRead(png_structp png, png_bytep data, size_t length);
     void setTransforms(PngTarget target);
+    Status checkDataSize(PngTarget target) const;
     Error failure() const;
     Error headerFailure() const;
 
@@ -50,19 +56,24 @@ private:
     png_infop m_info = nullptr;
     char m_message[256] = "";
     bool m_truncated = false;
+    int64_t m_idatBytes = 0;
+    int64_t m_fileBits = 0;
 };
 
 // libpng allocates (and clears) an ancillary chunk's declared length before reading it, so one
 // damaged length field makes a file of a hundred bytes cost up to 2 GB. A chunk that runs past
 // the end of the file means a truncated file: the chunk lengths are walked before libpng starts.
-bool chunksFitInFile(FileReader& file) {
+// The same walk adds up the IDAT lengths: the compressed image data (see checkDataSize).
+bool chunksFitInFile(FileReader& file, int64_t& idatBytes) {
     int64_t pos = 8;  // after the signature
     unsigned char header[8];
+    idatBytes = 0;
     while (file.seek(pos) && file.read(header, sizeof header)) {
         const int64_t length = int64_t(header[0]) << 24 | header[1] << 16 | header[2] << 8 |
                                header[3];
         pos += 12 + length;  // length, type, data, CRC
         if (pos > file.size()) return false;
+        if (std::memcmp(header + 4, "IDAT", 4) == 0) idatBytes += length;
         if (std::memcmp(header + 4, "IEND", 4) == 0) break;
     }
     return file.seek(0);
@@ -119,7 +130,7 @@ void PngStream::setTransforms(PngTarget target) {
 Status PngStream::readInfo(PngTarget target) {
     if (!m_png || !m_info)
         return makeError(ErrorKind::Runtime, "{}: cannot create a PNG reader", m_file.path());
-    if (!chunksFitInFile(m_file)) {
+    if (!chunksFitInFile(m_file, m_idatBytes)) {
         m_truncated = true;
         return failure();
     }
@@ -128,10 +139,29 @@ Status PngStream::readInfo(PngTarget target) {
     png_set_user_limits(m_png, kMaxDimension, kMaxDimension);
     png_set_chunk_malloc_max(m_png, 8 << 20);  // ancillary chunks (text, profiles) stay small
     png_read_info(m_png, m_info);
+    // The bits per pixel stored in the file (a palette index, not the RGB it expands to).
+    m_fileBits = int64_t(png_get_bit_depth(m_png, m_info)) * png_get_channels(m_png, m_info);
     setTransforms(target);
     png_set_interlace_handling(m_png);
     png_read_update_info(m_png, m_info);
-    return {};
+    return checkDataSize(target);
+}
+
+// Deflate expands at most 1032:1 (zlib's documented limit), so image data shorter than the
+// pixels' bits over that ratio cannot be a whole image: a header that claims 16384x16384 in a
+// file of 69 bytes is refused here, before its buffers are allocated, with what they would cost.
+Status PngStream::checkDataSize(PngTarget target) const {
+    // The sample limit speaks first, as it did before this check existed.
+    if (Status s = checkDimensions(m_file.path(), width(), height(), m_maxSamples); !s) return s;
+    const int64_t bits = m_fileBits;
+    const int64_t decoded = width() * height() * bits / 8;
+    constexpr int64_t kMaxRatio = 1032, kSlack = 4096;  // slack: zlib and block headers
+    if (m_idatBytes * kMaxRatio + kSlack >= decoded) return {};
+    const int64_t memory = bufferBytes() + width() * height() * (target == PngTarget::Height ? 4 : 3);
+    return makeError(ErrorKind::InvalidInput,
+                     "{}: corrupt PNG: {} bytes of compressed image data cannot hold {}x{} pixels "
+                     "of {} bits (decoding would need about {})",
+                     m_file.path(), m_idatBytes, width(), height(), bits, formatBytes(memory));
 }
 
 Status PngStream::readRows(const std::function<void(const unsigned char*, int64_t)>& sink) {
@@ -165,6 +195,8 @@ public:
         return ImageHeader{m_stream.width(), m_stream.height(), false};
     }
 
+    int64_t scratchBytes() const override { return m_stream.bufferBytes(); }
+
     Status readPixels(std::span<float> pixels) override {
         const PixelLayout layout = m_stream.layout();
         const int64_t width = m_stream.width();
@@ -192,6 +224,8 @@ public:
                              m_path);
         return ImageHeader{m_stream.width(), m_stream.height(), false};
     }
+
+    int64_t scratchBytes() const override { return m_stream.bufferBytes(); }
 
     Status readPixels(std::span<Rgb8> pixels) override {
         const int64_t width = m_stream.width();

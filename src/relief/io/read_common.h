@@ -4,6 +4,7 @@
 // allocate, fill. The public entry points are in heightfield_io.h.
 #include <relief/core/heightfield.h>
 #include <relief/core/image.h>
+#include <relief/core/memory_budget.h>
 #include <relief/io/heightfield_io.h>
 
 #include <array>
@@ -96,6 +97,9 @@ public:
     virtual ~Decoder() = default;
     virtual Result<ImageHeader> readHeader() = 0;
     virtual Status readPixels(std::span<T> pixels) = 0;  // row-major, row 0 at the top
+    // Bytes the decoder holds besides the output while decoding (valid after readHeader): an
+    // interlaced PNG's whole image, a JPEG's decoded pixels. Counted against the memory budget.
+    virtual int64_t scratchBytes() const { return 0; }
 };
 using HeightDecoder = Decoder<float>;
 using ColorDecoder = Decoder<Rgb8>;
@@ -111,6 +115,11 @@ Result<Decoded<T>> decodeImage(Decoder<T>& decoder, const std::string& path, int
     auto header = decoder.readHeader();
     if (!header) return header.error();
     if (Status s = checkDimensions(path, header->width, header->height, maxSamples); !s)
+        return s.error();
+    const int64_t bytes = header->width * header->height * int64_t(sizeof(T)) + decoder.scratchBytes();
+    if (Status s = reserveMemory(bytes, fmt::format("{}: decoding {}x{} pixels", path, header->width,
+                                                     header->height));
+        !s)
         return s.error();
     Decoded<T> decoded{*header, Image<T>(int(header->width), int(header->height))};
     if (Status s = decoder.readPixels(decoded.image.pixels); !s) return s.error();

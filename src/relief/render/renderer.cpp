@@ -77,6 +77,14 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+int64_t renderPeakBytes(int64_t pixels, bool shadows) {
+    constexpr int64_t kTracing = sizeof(Ray) + sizeof(Hit);
+    constexpr int64_t kShadows = sizeof(Ray) + sizeof(size_t) + sizeof(Hit);
+    const int64_t shading = sizeof(Hit) + sizeof(vec3) + sizeof(uint8_t) + sizeof(Rgb8) +
+                            (shadows ? kShadows : 0);
+    return pixels * std::max(kTracing, shading);
+}
+
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds) {
     const std::vector<Ray> rays = primaryRays(camera);
     Image<Hit> hits(camera.width(), camera.height());

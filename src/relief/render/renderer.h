@@ -34,6 +34,10 @@ vec3 shadeLambert(const Shading& shading, const vec3& albedo, const vec3& normal
 
 RenderResult render(const Surface& surface, const Camera& camera, const Tracer& tracer,
                     const Shading& shading);
+// The peak bytes of one render() at `pixels` pixels, for the memory budget: the primary rays and
+// hits while tracing, then the hits, normals, shadow rays and their hits (every pixel may need
+// one) and the colour image.
+int64_t renderPeakBytes(int64_t pixels, bool shadows);
 
 // Traces the primary rays only (no shading), in tiles, in parallel.
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds = nullptr);

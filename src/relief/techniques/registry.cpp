@@ -1,5 +1,7 @@
 #include <relief/techniques/registry.h>
 
+#include <relief/core/memory_budget.h>
+
 #include <relief/techniques/curves/curves.h>
 #include <relief/techniques/exact/exact.h>
 #include <relief/techniques/cone/cone.h>
@@ -260,50 +262,50 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
-     .buildMaps = buildQuadtreeMaps, .check = checkMaps<maxPyramidFor>,
+     .buildMaps = buildQuadtreeMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "quadtree/quadtree.glsl", .glslConstants = kPyramidWalkGlslConstants,
      .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases,
      .studies = kQuadtreeStudies},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
-     .buildMaps = buildMaxmipMaps, .check = checkMaps<maxPyramidFor>,
+     .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",
      .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
-     .create = createQuadtreeOriented, .buildMaps = buildQuadtreeOrientedMaps,
+     .create = createQuadtreeOriented, .buildMaps = buildQuadtreeOrientedMaps, .mapBytesPerTexel = 28,
      .check = checkMaps<orientedMapsFor>, .glsl = "quadtree_oriented/quadtree_oriented.glsl",
      .glslConstants = kPyramidWalkGlslConstants},
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
-     .buildMaps = buildConeMaps, .check = checkCone, .glsl = "cone/cone.glsl",
+     .buildMaps = buildConeMaps, .mapBytesPerTexel = 24, .check = checkCone, .glsl = "cone/cone.glsl",
      .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases,
      .studies = kConeStudies},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
-     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .check = checkRelaxedCone,
+     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .mapBytesPerTexel = 24, .check = checkRelaxedCone,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
      .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
-     .buildMaps = buildQdmMaps, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
+     .buildMaps = buildQdmMaps, .mapBytesPerTexel = 40, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
      .pathCases = kQdmPathCases,
      .studies = kQdmStudies},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
-     .buildMaps = buildSafetySdMaps, .check = checkMaps<makeSafetySdTracer>,
+     .buildMaps = buildSafetySdMaps, .mapBytesPerTexel = 32, .check = checkMaps<makeSafetySdTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
      .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
-     .buildMaps = buildSafetyCcMaps, .check = checkMaps<makeSafetyCcTracer>,
+     .buildMaps = buildSafetyCcMaps, .mapBytesPerTexel = 192, .check = checkMaps<makeSafetyCcTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
      .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies,
@@ -398,6 +400,13 @@ Result<const TechniqueInfo*> lookupTechnique(std::string_view name) {
                      techniqueNames());
 }
 
+Status reserveMapMemory(const TechniqueInfo& info, const Surface& surface) {
+    const int64_t texels = int64_t(surface.width()) * surface.height();
+    return reserveMemory(int64_t(double(texels) * info.mapBytesPerTexel),
+                         fmt::format("{}: building maps for {}x{} texels", info.name,
+                                     surface.width(), surface.height()));
+}
+
 Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
                                       std::shared_ptr<const Surface> surface,
                                       const std::vector<std::pair<std::string, double>>& overrides,
@@ -405,6 +414,8 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
     auto params = resolveParams(info, overrides);
     if (!params) return params.error();
     TechniqueInput input{std::move(surface), std::move(*params), nullptr};
+    if (!maps && info.buildMaps)
+        if (Status s = reserveMapMemory(info, *input.surface); !s) return s.error();
     if (maps && info.buildMaps) {
         input.maps = maps->find(std::string(info.name));
         if (!input.maps)

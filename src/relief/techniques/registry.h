@@ -26,6 +26,9 @@ Result<ParamValues> resolveParams(const TechniqueInfo& info,
 // The row's input: parameters resolved, and its maps taken from `maps` (a map file already
 // checked against the surface, named `mapsPath` in messages) when given; null `maps` = build
 // them. A file without this row's maps is an error that names the bake command.
+// The row's map estimate (mapBytesPerTexel × the surface's texels) against the memory budget:
+// techniqueInput calls it when the maps are to be built, bake before buildMaps.
+Status reserveMapMemory(const TechniqueInfo& info, const Surface& surface);
 Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
                                       std::shared_ptr<const Surface> surface,
                                       const std::vector<std::pair<std::string, double>>& overrides,

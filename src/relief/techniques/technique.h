@@ -172,6 +172,9 @@ struct TechniqueInfo {
     Result<std::unique_ptr<Tracer>> (*create)(const TechniqueInput& input);
     // For `relief bake`: the technique's maps as named arrays; null when it has none.
     Result<TechniqueMaps> (*buildMaps)(const TechniqueInput& input) = nullptr;
+    // Peak bytes per heightfield texel of building (or baking) its maps, measured with the
+    // default parameters, for the memory budget (reserveMapMemory); 0: none counted.
+    double mapBytesPerTexel = 0.0;
     // What `create` refuses beyond resolveParams (parameter combinations, and input.maps when
     // given: sizes, channels, what they were baked with), without building a tracer: the GL
     // backend traces with the row's GLSL and checks through this. Null: nothing more to check.
