@@ -69,10 +69,13 @@ std::string readText(const fs::path& path) {
 }
 
 TEST(BenchCommand, HtmlReportRendersInHeadlessChromium) {
-    ASSERT_EQ(std::system("command -v chromium >/dev/null"), 0) << "chromium is missing: run scripts/install-deps.sh";
     const fs::path out = fs::temp_directory_path() / ("relief_bench_html_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    const std::string log = " > " + (out / "commands.log").string() + " 2>&1";
+    ASSERT_EQ(std::system(("command -v chromium" + log).c_str()), 0)
+        << "chromium is missing: run scripts/install-deps.sh";
     const std::string bench = std::string(RELIEF_CLI_PATH) + " bench --preset quick --threads 2 --out-dir " +
-                              out.string() + " > /dev/null 2>&1";
+                              out.string() + log;
     ASSERT_EQ(std::system(bench.c_str()), 0) << bench;
     const std::string chromium = "timeout 120 chromium --headless --no-sandbox --disable-gpu --enable-logging=stderr "
                                  "--v=0 --virtual-time-budget=5000 --user-data-dir=" + (out / "profile").string();
@@ -87,7 +90,7 @@ TEST(BenchCommand, HtmlReportRendersInHeadlessChromium) {
     EXPECT_EQ(console.find("CONSOLE"), std::string::npos) << console;
 
     const std::string shot = chromium + " --window-size=1200,900 --screenshot=" + (out / "shot.png").string() + " " +
-                             page + " > /dev/null 2>&1";
+                             page + log;
     ASSERT_EQ(std::system(shot.c_str()), 0) << shot;
     auto image = relief::loadColorImage((out / "shot.png").string());
     ASSERT_TRUE(image) << image.error().message;
@@ -164,7 +167,7 @@ TEST(BenchCommand, BakedMapsMatchBuiltOnes) {
     fs::create_directories(out);
     const std::string maps = (out / "maps.exr").string();
     const std::string bake = std::string(RELIEF_CLI_PATH) + " bake gen:fbm:32x32 -t cone,safety-sd -o " + maps +
-                             " > /dev/null 2>&1";
+                             " > " + (out / "bake.log").string() + " 2>&1";
     ASSERT_EQ(std::system(bake.c_str()), 0) << bake;
     const std::string common = "-t cone,safety-sd,exact --heightfields gen:fbm:32x32 --elevations 40.2 --size 32x32";
     ASSERT_EQ(runBench(common, out / "built"), 0);
@@ -215,7 +218,7 @@ TEST(BenchCommand, CurvesStudyWritesTable1LikeRender) {
         const std::string render = std::string(RELIEF_CLI_PATH) + " render gen:sine:64x64 -t curves --param epsilon=" +
                                    epsilon + " --elevation " + fmt::format("{}", row.at("elevation").get<double>()) +
                                    " --size 32x32 --format json --deterministic --out-dir " + out.string() +
-                                   "-render > " + summary.string() + " 2>/dev/null";
+                                   "-render > " + summary.string() + " 2> " + out.string() + "-render.log";
         ASSERT_EQ(std::system(render.c_str()), 0) << render;
         std::ifstream in(summary);
         const nlohmann::json rendered = nlohmann::json::parse(in).at(0);
@@ -233,6 +236,7 @@ TEST(BenchCommand, CurvesStudyWritesTable1LikeRender) {
     fs::remove_all(out);
     fs::remove(out.string() + ".log");
     fs::remove(summary);
+    fs::remove(out.string() + "-render.log");
     fs::remove_all(out.string() + "-render");
 }
 
@@ -283,13 +287,18 @@ TEST(BenchCommand, ScalingStudyPlotsStepsAgainstMapSize) {
 }
 
 TEST(BenchCommand, RejectsBadOptions) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_bad_" + std::to_string(::getpid()));
+    fs::create_directories(out);
     for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b",
                              "-t cone:variant=7", "-t cone:nope=1", "-t cone --visibility exterior",
                              "-t cone --phi-max 45", "-t cone --param nope=1", "--edge wrap", "--param x"}) {
-        const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args + " --out-dir /nonexistent-relief >/dev/null 2>&1";
+        const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args + " --out-dir " +
+                                    (out / "run").string() + " > " + (out / "bad.log").string() + " 2>&1";
         const int status = std::system(command.c_str());
         EXPECT_EQ(WEXITSTATUS(status), 1) << args;
+        EXPECT_FALSE(fs::exists(out / "run")) << args << ": a refused run made its output folder";
     }
+    fs::remove_all(out);
 }
 
 }  // namespace

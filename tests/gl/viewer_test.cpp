@@ -42,8 +42,16 @@ std::string readFile(const fs::path& path) {
     return s.str();
 }
 
+// An executable of that name in a folder of PATH (no shell: nothing is written anywhere).
 bool onPath(const std::string& program) {
-    return std::system(("command -v " + program + " >/dev/null 2>&1").c_str()) == 0;
+    const char* path = std::getenv("PATH");
+    for (std::string_view rest = path ? path : ""; !rest.empty();) {
+        const size_t colon = rest.find(':');
+        const std::string dir(rest.substr(0, colon));
+        rest = colon == std::string_view::npos ? std::string_view{} : rest.substr(colon + 1);
+        if (!dir.empty() && ::access((dir + "/" + program).c_str(), X_OK) == 0) return true;
+    }
+    return false;
 }
 
 int exitCode(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
