@@ -40,16 +40,8 @@ VertexGrid::VertexGrid(const Surface& surface) {
 MaxPyramid::MaxPyramid(const Surface& surface)
     : MaxPyramid(VertexGrid(surface), PyramidLayout::of(surface)) {}
 
-MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout) : m_layout(layout) {
-    size_t total = 0;
-    for (int level = 0; level < layout.levels; ++level)
-        total += Index::size(layout.widthAt(level), layout.heightAt(level));
-    m_values.assign(total, 0.0f);
-    size_t offset = 0;
-    for (int level = 0; level < layout.levels; ++level) {
-        m_levels[size_t(level)] = {m_values.data() + offset, Index::of(layout.widthAt(level))};
-        offset += Index::size(layout.widthAt(level), layout.heightAt(level));
-    }
+MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout)
+    : MaxPyramid(layout) {  // the allocation, max_pyramid_maps.cpp
     buildFinest(vertices);
     for (int level = 1; level < layout.levels; ++level) buildCoarser(level);
 }
