@@ -9,8 +9,14 @@ packages=(
     libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
     libglfw3-dev libimgui-dev xvfb xauth
     chromium
+    pybind11-dev python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
+    glslang-tools spirv-cross libhwy-dev
 )
 missing=()
+# npm (for the pinned ktx-parse that validates KTX2 exports) comes with Node.js: Debian's nodejs + npm
+# packages on a fresh machine; a machine that already has a node with its npm keeps it (installing
+# Debian's npm beside another vendor's nodejs would fight over the same files).
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
 for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
