@@ -29,7 +29,8 @@ install)
         [ -n "$(find "$prefix" -name "$f")" ] || fail "not installed: $f"
     done
     # Relocatable: the package files name paths relative to themselves only.
-    if grep -rlF -e "$src" -e "$build" "$prefix/lib" "$prefix/share" "$prefix/include"; then
+    if grep -rlF -e "$src" -e "$build" "$prefix/lib/cmake/relief" "$(dirname "$(find "$prefix" \
+            -name relief.pc)")"; then
         fail "the files above name the source or build tree"
     fi
     # Internals stay internal: no CLI, bench or viewer header is public.
