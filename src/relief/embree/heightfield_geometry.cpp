@@ -3,6 +3,7 @@
 #include <relief/techniques/registry.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace relief::embree {
@@ -44,7 +45,10 @@ void traceLanes(const State& s, const int* valid, RTCRayN* rays, unsigned N, OnH
             const vec3 o(RTCRayN_org_x(rays, N, i), RTCRayN_org_y(rays, N, i), RTCRayN_org_z(rays, N, i));
             const vec3 d(RTCRayN_dir_x(rays, N, i), RTCRayN_dir_y(rays, N, i), RTCRayN_dir_z(rays, N, i));
             const float near = std::max(0.0f, RTCRayN_tnear(rays, N, i)), far = RTCRayN_tfar(rays, N, i);
-            const float length = glm::length(d);
+            // A unit direction stays as it is (renormalizing would move it by an ulp and the hit of
+            // a grazing ray by more than the exact contract's 1e-3).
+            float length = glm::length(d);
+            if (std::abs(length - 1.0f) <= 4.0f * std::numeric_limits<float>::epsilon()) length = 1.0f;
             if (!(length > 0.0f) || !(near <= far)) continue;  // also an occluded lane (tfar = -inf)
             local[n] = Ray{o + near * d, d / length, (far - near) * length};
             lanes[n] = i, nears[n] = near, fars[n] = far, lengths[n] = length;
