@@ -357,6 +357,57 @@ TEST(EmbreeUserGeometry, AnyPacketWidthAndDirectionLength) {
                 << rayText(batch[k]) << ": " << hits[k].hit << " t=" << hits[k].t << ", exact " << ref[k].t;
 }
 
+// Placed in a world by an Embree instance (texel space scaled by 0.5 and moved): the hit is
+// exact's on the ray in texel space, t in world units, and the hit names the instance.
+TEST(EmbreeUserGeometry, PlacedByAnInstance) {
+    const auto surface = surfaceOf(*generateHeightfield("peaks6", 48, 40, 3));
+    RTCDevice device = rtcNewDevice(nullptr);
+    RTCScene local = rtcNewScene(device), world = rtcNewScene(device);
+    auto attached = embree::attachHeightfield(local, surface);
+    ASSERT_TRUE(attached.ok());
+    std::optional<embree::HeightfieldGeometry> geometry(std::move(*attached));
+    rtcCommitScene(local);
+    constexpr float kScale = 0.5f;
+    const vec3 offset(100.0f, -20.0f, 3.0f);
+    const float xfm[12] = {kScale, 0, 0, 0, kScale, 0, 0, 0, kScale, offset.x, offset.y, offset.z};  // column-major 3×4
+    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, local);
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, xfm);
+    rtcCommitGeometry(instance);
+    const unsigned instanceID = rtcAttachGeometry(world, instance);
+    rtcReleaseGeometry(instance);
+    rtcCommitScene(world);
+
+    testing::RaySets sets(*surface, 9);
+    std::vector<Segment> segments;
+    const std::vector<Ray> texelRays = sets.fromOutside(2000);
+    for (const Ray& r : texelRays) segments.push_back({Ray{offset + kScale * r.origin, r.direction, kInf}, 0.0f});
+    auto exact = createTracer("exact", surface);
+    ASSERT_TRUE(exact.ok());
+    std::vector<Hit> ref(texelRays.size());
+    (*exact)->traceBatch(texelRays, ref);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    size_t hits = 0;
+    for (size_t k = 0; k < segments.size(); ++k) {
+        RTCRayHit rh{};
+        setLane(reinterpret_cast<RTCRayN*>(&rh.ray), 1, 0, segments[k], 1.0f);
+        rh.hit.geomID = rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(world, &context, &rh);
+        const bool hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        ASSERT_TRUE(sameAnswer(hit, rh.ray.tfar, ref[k].hit, kScale * ref[k].t, 1e-3 * kScale)) << rayText(texelRays[k]);
+        if (!hit) continue;
+        ++hits;
+        EXPECT_EQ(rh.hit.instID[0], instanceID);
+        EXPECT_EQ(rh.hit.geomID, geometry->geomID());
+    }
+    EXPECT_GT(hits, size_t(1000));
+    geometry.reset();  // detaches before the scenes go
+    rtcReleaseScene(world);
+    rtcReleaseScene(local);
+    rtcReleaseDevice(device);
+}
+
 // A conservative technique behind the same geometry never reports a hit past exact's.
 TEST(EmbreeUserGeometry, ConeNeverHitsPastExact) {
     size_t hits = 0;

@@ -326,12 +326,14 @@ Table userGeometryTable(const std::vector<BenchRow>& rows, const BenchMeta& meta
     if (meta.timings)
         t.header.insert(t.header.end(), {"relief Mrays/s", "user-1 Mrays/s", "user-16 Mrays/s", "embree-1 Mrays/s",
                                          "embree-16 Mrays/s", "user-1 / embree-1", "user-16 / embree-16"});
-    t.header.insert(t.header.end(), {"user bytes/texel", "triangles bytes/texel", "agree user-1", "agree user-16"});
+    t.header.insert(t.header.end(), {"user bytes/texel", "triangles bytes/texel", "agree user-1", "agree user-16",
+                                     "agree embree-1", "agree embree-16"});
     const std::vector<const BenchRow*> selected = atLargestCap(rows);
     auto ratio = [](const BenchRow* a, const BenchRow* b) {
         return a && b && b->mraysPerSecond > 0 ? formatRatio(a->mraysPerSecond / b->mraysPerSecond) : std::string("-");
     };
     auto speed = [](const BenchRow* r) { return r ? fmt::format("{:.2f}", r->mraysPerSecond) : std::string("-"); };
+    auto agree = [](const BenchRow* r) { return r ? fmt::format("{:.4f}%", 100.0 * r->agreeRate) : std::string("-"); };
     for (const BenchRow* r : selected) {
         if (r->backend != "cpu" || isPeer(r->technique)) continue;
         const BenchRow* user1 = findRow(selected, *r, userGeometryLabel(r->technique, PeerKind::Embree1));
@@ -345,8 +347,7 @@ Table userGeometryTable(const std::vector<BenchRow>& rows, const BenchMeta& meta
                                      ratio(user1, tri1), ratio(user16, tri16)});
         line.insert(line.end(), {fmt::format("{:.1f} ({:.1f})", user1->bytesPerTexel, r->bytesPerTexel),
                                  tri1 ? fmt::format("{:.1f}", tri1->bytesPerTexel) : std::string("-"),
-                                 fmt::format("{:.4f}%", 100.0 * user1->agreeRate),
-                                 fmt::format("{:.4f}%", 100.0 * user16->agreeRate)});
+                                 agree(user1), agree(user16), agree(tri1), agree(tri16)});
         t.rows.push_back(std::move(line));
     }
     return t;
