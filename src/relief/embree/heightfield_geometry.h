@@ -11,8 +11,9 @@
 // only hits in [tnear, tfar] count, and the ray is traced from o + tnear·d (a segment starting
 // below S is outside DESIGN §3's contract). No intersection filter functions are invoked.
 // Threads: Embree calls the callbacks from any number of threads at once; they only read the
-// surface and call Tracer::traceBatch, which is const and keeps no per-call state in every
-// registry tracer (traceAll calls it from parallel batches too).
+// surface and call Tracer::traceBatch, which every registry tracer keeps const and safe to call
+// concurrently (traceAll does so from parallel batches; the only shared writes are the safety
+// rows' atomic statistics counters).
 #include <relief/core/error.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
