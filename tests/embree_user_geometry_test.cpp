@@ -430,6 +430,26 @@ TEST(EmbreeUserGeometry, ConeNeverHitsPastExact) {
     EXPECT_GT(hits, size_t(1000));
 }
 
+// The device's memory monitor sees the triangle scene's buffers and BVH (at least the vertex and
+// index buffers), and the user geometry's scene is a small fixed cost, not per texel.
+TEST(EmbreeUserGeometry, MemoryMonitorCountsTheScenes) {
+    const auto surface = surfaceOf(*generateHeightfield("fbm", 128, 128, 1));
+    auto triangles = EmbreeScene::create(*surface);
+    ASSERT_TRUE(triangles.ok());
+    const auto mesh = buildSolidMesh(*surface);
+    EXPECT_GE((*triangles)->embreeBytes(), int64_t(mesh.vertices.size() * 12 + mesh.triangles.size() * 12));
+    auto exact = createTracer("exact", surface);
+    ASSERT_TRUE(exact.ok());
+    auto user = EmbreeScene::createUserGeometry(surface, std::shared_ptr<const Tracer>(std::move(*exact)));
+    ASSERT_TRUE(user.ok()) << user.error().message;
+    EXPECT_GT((*user)->embreeBytes(), 0);
+    EXPECT_LT((*user)->embreeBytes(), (*triangles)->embreeBytes() / 10);
+    // The scene traces like any other: one ray straight down hits the top.
+    std::vector<Hit> hits(1);
+    (*user)->intersect1(std::vector<Ray>{Ray{vec3(64.0f, 64.0f, 100.0f), vec3(0, 0, -1), kInf}}, hits);
+    EXPECT_TRUE(hits[0].hit);
+}
+
 TEST(EmbreeUserGeometry, RefusesWhatItCannotTrace) {
     RTCDevice device = rtcNewDevice(nullptr);
     RTCScene scene = rtcNewScene(device);
