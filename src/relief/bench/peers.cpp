@@ -20,6 +20,11 @@ constexpr PeerInfo kPeers[] = {
 
 std::span<const PeerInfo> peers() { return kPeers; }
 
+std::string userGeometryLabel(std::string_view row, PeerKind kind) {
+    RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);
+    return std::string(row) + (kind == PeerKind::Embree1 ? "@user-geometry-1" : "@user-geometry-16");
+}
+
 const PeerInfo* summaryPeerOf(std::string_view backend) {
     for (const PeerInfo& p : kPeers)
         if (p.backend == backend && p.summaryPeer) return &p;
@@ -39,15 +44,27 @@ struct EmbreePeer::Scene {
 EmbreePeer::~EmbreePeer() = default;
 
 Result<std::unique_ptr<EmbreePeer>> EmbreePeer::create(const Surface& surface) {
+    return build([&] { return EmbreeScene::create(surface); });
+}
+
+Result<std::unique_ptr<EmbreePeer>> EmbreePeer::createUserGeometry(std::shared_ptr<const Surface> surface,
+                                                                   std::shared_ptr<const Tracer> tracer) {
+    return build([&] { return EmbreeScene::createUserGeometry(std::move(surface), std::move(tracer)); });
+}
+
+template <class Make>
+Result<std::unique_ptr<EmbreePeer>> EmbreePeer::build(Make make) {
     std::unique_ptr<EmbreePeer> peer(new EmbreePeer);
     peer->m_scene = std::make_unique<Scene>();
     const auto start = std::chrono::steady_clock::now();
-    auto scene = EmbreeScene::create(surface);
+    auto scene = make();
     if (!scene) return scene.error();
     peer->m_scene->scene = std::move(*scene);
     peer->m_buildSeconds = secondsSince(start);
     return peer;
 }
+
+int64_t EmbreePeer::embreeBytes() const { return m_scene->scene->embreeBytes(); }
 
 PeerResult EmbreePeer::run(PeerKind kind, const Camera& camera, int repeats) const {
     RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);

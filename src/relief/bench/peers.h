@@ -5,9 +5,11 @@
 #include <relief/core/image.h>
 #include <relief/render/camera.h>
 #include <relief/surface/surface.h>
+#include <relief/techniques/technique.h>
 
 #include <memory>
 #include <span>
+#include <string>
 #include <string_view>
 
 namespace relief::bench {
@@ -22,6 +24,9 @@ struct PeerInfo {
 };
 
 std::span<const PeerInfo> peers();
+// A row's label behind an Embree user geometry, traced like peer `kind` (Embree1 or Embree16):
+// "exact@user-geometry-16".
+std::string userGeometryLabel(std::string_view row, PeerKind kind);
 // The peer the summary compares rows of `backend` with, or null.
 const PeerInfo* summaryPeerOf(std::string_view backend);
 bool isPeer(std::string_view name);
@@ -33,16 +38,23 @@ struct PeerResult {
     std::string glDevice;  // GL only
 };
 
-// The Embree scene of a surface, built once per heightfield (clamp edges only).
+// The Embree scene of a surface, built once per heightfield (clamp edges only): its triangles, or
+// the heightfield as a user geometry over a row's tracer (BenchConfig::userGeometry).
 class EmbreePeer {
 public:
     static Result<std::unique_ptr<EmbreePeer>> create(const Surface& surface);
+    static Result<std::unique_ptr<EmbreePeer>> createUserGeometry(std::shared_ptr<const Surface> surface,
+                                                                  std::shared_ptr<const Tracer> tracer);
     ~EmbreePeer();
     double buildSeconds() const { return m_buildSeconds; }
+    // Bytes Embree's device holds for the scene (BVH, buffers), counted by its memory monitor.
+    int64_t embreeBytes() const;
     PeerResult run(PeerKind kind, const Camera& camera, int repeats) const;
 
 private:
     EmbreePeer() = default;
+    template <class Make>
+    static Result<std::unique_ptr<EmbreePeer>> build(Make make);
     struct Scene;
     std::unique_ptr<Scene> m_scene;
     double m_buildSeconds = 0;

@@ -44,6 +44,10 @@ struct BenchConfig {
     std::string paperNotes;  // the paper's claims, shown beside ours
     std::vector<PaperRatio> paperRatios;
     bool imageMethod = false;  // rows with an image method of their own (curves) are drawn with it
+    // Every CPU row also behind an Embree user geometry (embree/heightfield_geometry.h), traced
+    // with rtcIntersect1 and rtcIntersect16 on the same rays as the triangles; memory per texel of
+    // both; the report's "Embree user geometry" table.
+    bool userGeometry = false;
 };
 
 // Command-line overrides of a preset; empty strings / unset values keep the preset's.

@@ -311,6 +311,48 @@ Table viewTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
     return t;
 }
 
+// BenchConfig::userGeometry: each row behind an Embree user geometry against Embree's triangles
+// of the same solid, per map and view, on the same rays; memory per heightfield texel of each.
+Table userGeometryTable(const std::vector<BenchRow>& rows, const BenchMeta& meta) {
+    Table t{"Embree user geometry",
+            fmt::format("CPU, per map and view, at the largest cap: each row traced by Embree as a user geometry "
+                        "(rtcIntersect1 / rtcIntersect16; the callbacks trace each call's rays as one batch) and "
+                        "Embree's triangles of the same solid (embree-1 / embree-16), on the same rays in this run. "
+                        "Bytes per heightfield texel: the user geometry's (heightfield, padded heights, the row's "
+                        "maps, Embree's one-box scene; maps alone in brackets) and the triangle scene's (Embree's "
+                        "BVH and buffers, by the device's memory monitor). Agree: same hit/miss and |Δt| ≤ 1e-3 "
+                        "texel as {}.", referenceName())};
+    t.header = {"map", "elevation", "technique"};
+    if (meta.timings)
+        t.header.insert(t.header.end(), {"relief Mrays/s", "user-1 Mrays/s", "user-16 Mrays/s", "embree-1 Mrays/s",
+                                         "embree-16 Mrays/s", "user-1 / embree-1", "user-16 / embree-16"});
+    t.header.insert(t.header.end(), {"user bytes/texel", "triangles bytes/texel", "agree user-1", "agree user-16",
+                                     "agree embree-1", "agree embree-16"});
+    const std::vector<const BenchRow*> selected = atLargestCap(rows);
+    auto ratio = [](const BenchRow* a, const BenchRow* b) {
+        return a && b && b->mraysPerSecond > 0 ? formatRatio(a->mraysPerSecond / b->mraysPerSecond) : std::string("-");
+    };
+    auto speed = [](const BenchRow* r) { return r ? fmt::format("{:.2f}", r->mraysPerSecond) : std::string("-"); };
+    auto agree = [](const BenchRow* r) { return r ? fmt::format("{:.4f}%", 100.0 * r->agreeRate) : std::string("-"); };
+    for (const BenchRow* r : selected) {
+        if (r->backend != "cpu" || isPeer(r->technique)) continue;
+        const BenchRow* user1 = findRow(selected, *r, userGeometryLabel(r->technique, PeerKind::Embree1));
+        const BenchRow* user16 = findRow(selected, *r, userGeometryLabel(r->technique, PeerKind::Embree16));
+        if (!user1 || !user16) continue;
+        const BenchRow* tri1 = findRow(selected, *r, "embree-1");
+        const BenchRow* tri16 = findRow(selected, *r, "embree-16");
+        std::vector<std::string> line = {r->map, fmt::format("{:.1f}°", r->elevation), r->technique};
+        if (meta.timings)
+            line.insert(line.end(), {speed(r), speed(user1), speed(user16), speed(tri1), speed(tri16),
+                                     ratio(user1, tri1), ratio(user16, tri16)});
+        line.insert(line.end(), {fmt::format("{:.1f} ({:.1f})", user1->bytesPerTexel, r->bytesPerTexel),
+                                 tri1 ? fmt::format("{:.1f}", tri1->bytesPerTexel) : std::string("-"),
+                                 agree(user1), agree(user16), agree(tri1), agree(tri16)});
+        t.rows.push_back(std::move(line));
+    }
+    return t;
+}
+
 // Two rows A/B side by side (a paper's figures of one method against another): per elevation and
 // cap (0 = the defaults), means over the maps of the CPU rows.
 std::vector<Table> compareTables(const std::vector<BenchRow>& rows, const BenchConfig& config, const BenchMeta& meta) {
@@ -429,6 +471,7 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     if (config.kind == StudyKind::Scaling)
         for (Table& t : scalingTables(rows, config)) tables.push_back(std::move(t));
     if (config.peerTable) tables.push_back(viewTable(rows, meta));
+    if (config.userGeometry) tables.push_back(userGeometryTable(rows, meta));
     if (hasCurves(rows))
         tables.push_back(curvesTable(rows, meta));
     if (!config.compare.empty())

@@ -169,6 +169,9 @@ struct PreparedRow {
     std::map<int, std::pair<std::unique_ptr<Tracer>, double>> cpu;  // per cap: tracer, create seconds
     // Uploaded and compiled once, for every view and cap (the cap is a uniform: setParams).
     std::unique_ptr<GlCameraTracer> gl;
+    // Per cap: the row's tracer as an Embree user geometry (BenchConfig::userGeometry). After
+    // `built`: destroyed first, as the tracer reads those maps.
+    std::map<int, std::unique_ptr<EmbreePeer>> user;
 
     Overrides at(int cap) const {
         Overrides o = overrides;
@@ -375,6 +378,38 @@ private:
             orFail(writePng(base + "-error.png", errorHeatmap(hits, reference, r.stats, r.technique)));
         }
         m_rows.push_back(std::move(r));
+        if (m_config.userGeometry && surface->edge() == EdgeMode::Clamp)
+            runUserGeometry(row, map, elevation, cap, surface, camera, reference, input);
+    }
+
+    // The row's tracer behind an Embree user geometry: the triangle peers' Embree calls on the same
+    // rays. Memory: the heightfield and the surface's padded heights (what the callbacks read),
+    // the row's maps, and the Embree scene (a BVH over one box).
+    void runUserGeometry(PreparedRow& row, const std::string& map, float elevation, int cap,
+                         std::shared_ptr<const Surface> surface, const Camera& camera, const Image<Hit>& reference,
+                         const TechniqueInput& input) {
+        std::unique_ptr<EmbreePeer>& peer = row.user[cap];
+        if (!peer) {
+            std::shared_ptr<const Tracer> tracer = orFail(row.spec->info->create(input));
+            peer = orFail(EmbreePeer::createUserGeometry(surface, std::move(tracer)));
+        }
+        const double heights =
+            double(surface->heightfield().sampleCount() + surface->paddedHeights().size()) * sizeof(float);
+        for (PeerKind kind : {PeerKind::Embree1, PeerKind::Embree16}) {
+            BenchRow r = newRow(row, map, "cpu", elevation, cap, input.params);
+            r.technique = userGeometryLabel(row.spec->label, kind);
+            measurePeer(r, peer->run(kind, camera, m_config.repeats), reference);
+            r.buildSeconds += peer->buildSeconds();
+            r.bytesPerTexel += (heights + double(peer->embreeBytes())) / double(m_mapSamples);
+            m_rows.push_back(std::move(r));
+        }
+    }
+
+    void measurePeer(BenchRow& r, const PeerResult& result, const Image<Hit>& reference) const {
+        r.stats = compareHits(result.hits, reference);
+        agreement(r, result.hits, reference, m_inBox);
+        r.mraysPerSecond = double(result.hits.pixels.size()) / result.seconds / 1e6;
+        r.msPerFrame = 1000.0 * result.seconds;
     }
 
     // GPU rows: rays made on the GPU from the camera, ms per frame with glFinish (DESIGN §8);
@@ -424,13 +459,10 @@ private:
                    const Image<Hit>& reference) {
         for (const PeerInfo& peer : peers()) {
             if (peer.kind == PeerKind::Mesh) continue;
-            const PeerResult result = embree.run(peer.kind, camera, m_config.repeats);
             BenchRow r = peerRow(peer, map, elevation);
-            r.stats = compareHits(result.hits, reference);
-            agreement(r, result.hits, reference, m_inBox);
-            r.mraysPerSecond = double(result.hits.pixels.size()) / result.seconds / 1e6;
-            r.msPerFrame = 1000.0 * result.seconds;
+            measurePeer(r, embree.run(peer.kind, camera, m_config.repeats), reference);
             r.buildSeconds = embree.buildSeconds();
+            if (m_config.userGeometry) r.bytesPerTexel = double(embree.embreeBytes()) / double(m_mapSamples);
             m_rows.push_back(std::move(r));
         }
     }

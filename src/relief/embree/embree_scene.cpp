@@ -1,6 +1,6 @@
 #include <relief/embree/embree_scene.h>
 
-#include <embree3/rtcore.h>
+#include <relief/embree/heightfield_geometry.h>
 
 #include <cstring>
 
@@ -60,19 +60,14 @@ TriangleMesh buildSolidMesh(const Surface& s) {
     return mesh;
 }
 
-Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const Surface& surface) {
+Result<unsigned> attachSolidMesh(RTCScene scene, const Surface& surface, size_t* triangles) {
     if (surface.edge() != EdgeMode::Clamp)
         return makeError(ErrorKind::Unsupported, "Embree peer: only clamp edge mode has a finite mesh");
-    std::unique_ptr<EmbreeScene> self(new EmbreeScene());
-    RTCDevice device = rtcNewDevice(nullptr);
-    if (!device) return makeError(ErrorKind::Runtime, "Embree: rtcNewDevice failed");
-    self->m_device = device;
     const TriangleMesh mesh = buildSolidMesh(surface);
-    RTCScene scene = rtcNewScene(device);
-    self->m_scene = scene;
-    rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_HIGH);
+    RTCDevice device = rtcGetSceneDevice(scene);  // retained: released below
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcReleaseDevice(device);
+    if (!geometry) return makeError(ErrorKind::Runtime, "Embree: rtcNewGeometry failed");
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
         geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.vertices.size()));
     auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
@@ -85,16 +80,64 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const Surface& surface)
     std::memcpy(vertices, mesh.vertices.data(), mesh.vertices.size() * sizeof(vec3));
     std::memcpy(indices, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3));
     rtcCommitGeometry(geometry);
-    rtcAttachGeometry(scene, geometry);
+    const unsigned id = rtcAttachGeometry(scene, geometry);
     rtcReleaseGeometry(geometry);
-    rtcCommitScene(scene);
-    self->m_triangleCount = mesh.triangles.size();
+    if (triangles) *triangles = mesh.triangles.size();
+    return id;
+}
+
+void DeviceMemory::attach(RTCDevice device) { rtcSetDeviceMemoryMonitorFunction(device, monitor, this); }
+
+bool DeviceMemory::monitor(void* self, ssize_t bytes, bool) {
+    static_cast<DeviceMemory*>(self)->m_bytes.fetch_add(int64_t(bytes), std::memory_order_relaxed);
+    return true;  // count, never refuse
+}
+
+struct EmbreeScene::Geometry {
+    embree::HeightfieldGeometry handle;
+};
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::withScene() {
+    std::unique_ptr<EmbreeScene> self(new EmbreeScene());
+    self->m_device = rtcNewDevice(nullptr);
+    if (!self->m_device) return makeError(ErrorKind::Runtime, "Embree: rtcNewDevice failed");
+    self->m_memory.attach(self->m_device);
+    self->m_scene = rtcNewScene(self->m_device);
+    rtcSetSceneFlags(self->m_scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(self->m_scene, RTC_BUILD_QUALITY_HIGH);
+    return self;
+}
+
+void EmbreeScene::commit() {
+    rtcCommitScene(m_scene);
+    m_builtBytes = m_memory.bytes();
+}
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const Surface& surface) {
+    if (surface.edge() != EdgeMode::Clamp)
+        return makeError(ErrorKind::Unsupported, "Embree peer: only clamp edge mode has a finite mesh");
+    auto self = withScene();
+    if (!self) return self.error();
+    if (auto id = attachSolidMesh((*self)->m_scene, surface, &(*self)->m_triangleCount); !id) return id.error();
+    (*self)->commit();
+    return self;
+}
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::createUserGeometry(std::shared_ptr<const Surface> surface,
+                                                                     std::shared_ptr<const Tracer> tracer) {
+    auto self = withScene();
+    if (!self) return self.error();
+    auto handle = embree::attachTracer((*self)->m_scene, std::move(surface), std::move(tracer));
+    if (!handle) return handle.error();
+    (*self)->m_geometry = std::make_unique<Geometry>(Geometry{std::move(*handle)});
+    (*self)->commit();
     return self;
 }
 
 EmbreeScene::~EmbreeScene() {
-    if (m_scene) rtcReleaseScene(static_cast<RTCScene>(m_scene));
-    if (m_device) rtcReleaseDevice(static_cast<RTCDevice>(m_device));
+    m_geometry.reset();
+    if (m_scene) rtcReleaseScene(m_scene);
+    if (m_device) rtcReleaseDevice(m_device);
 }
 
 namespace {
@@ -111,7 +154,7 @@ Hit hitFrom(const Ray& ray, float tfar, unsigned geomID) {
 void EmbreeScene::intersect1(std::span<const Ray> rays, std::span<Hit> hits) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCScene scene = static_cast<RTCScene>(m_scene);
+    RTCScene scene = m_scene;
     for (size_t k = 0; k < rays.size(); ++k) {
         const Ray& r = rays[k];
         RTCRayHit rh;
@@ -134,7 +177,7 @@ void EmbreeScene::intersect16(std::span<const Ray> rays, std::span<Hit> hits) co
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    RTCScene scene = static_cast<RTCScene>(m_scene);
+    RTCScene scene = m_scene;
     for (size_t first = 0; first < rays.size(); first += 16) {
         const size_t n = std::min<size_t>(16, rays.size() - first);
         alignas(64) int valid[16];
