@@ -20,8 +20,8 @@ struct PyValue {
     std::string text;
     int64_t integer = 0;
     bool boolean = false;
-    std::vector<PyValue> items;                         // a tuple or a list
-    std::vector<std::pair<std::string, PyValue>> dict;  // string keys only
+    std::vector<PyValue> items;     // a tuple's or a list's items, a dict's values
+    std::vector<std::string> keys;  // a dict's keys (strings only), one per item
 };
 
 class PyLiteralParser {
@@ -100,7 +100,8 @@ class PyLiteralParser {
                     if (item->kind != PyValue::Kind::String || !eat(':')) return std::nullopt;
                     auto value = parse(depth + 1);
                     if (!value) return std::nullopt;
-                    v.dict.emplace_back(item->text, std::move(*value));
+                    v.keys.push_back(item->text);
+                    v.items.push_back(std::move(*value));
                 } else {
                     v.items.push_back(std::move(*item));
                 }
@@ -150,13 +151,14 @@ Error badHeader(const std::string& what, std::string_view problem) {
 Result<NpyHeader> headerOf(const PyValue& dict, const std::string& what) {
     NpyHeader h;
     const PyValue *descr = nullptr, *fortran = nullptr, *shape = nullptr;
-    for (const auto& [key, value] : dict.dict) {
+    for (size_t k = 0; k < dict.keys.size(); ++k) {
+        const std::string& key = dict.keys[k];
         const PyValue** slot = key == "descr"           ? &descr
                                : key == "fortran_order" ? &fortran
                                : key == "shape"         ? &shape
                                                         : nullptr;
         if (!slot || *slot) return badHeader(what, fmt::format("unexpected or repeated key '{}'", key));
-        *slot = &value;
+        *slot = &dict.items[k];
     }
     if (!descr || !fortran || !shape)
         return badHeader(what, "it needs the keys 'descr', 'fortran_order' and 'shape'");
