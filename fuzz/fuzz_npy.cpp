@@ -2,11 +2,11 @@
 // float32/float64 ray reader in src/relief/io/ray_io.cpp). Parsed rays have finite origins within
 // kMaxRayOrigin, unit directions and a tMax >= 0, and written back they read back the same.
 // Seeds: fuzz/corpus/npy/.
-#include "fuzz_common.h"
-
 #include <relief/io/ray_io.h>
 
 #include <span>
+
+#include "fuzz_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     using namespace relief;
@@ -25,9 +25,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         RELIEF_FUZZ_EXPECT(r.tMax >= 0.0f);
     }
     const std::string again = npyRays(*rays);
-    auto back = decodeNpyRays(std::span(reinterpret_cast<const unsigned char*>(again.data()),
-                                        again.size()),
-                              "again.npy", 1 << 16);
+    auto back =
+        decodeNpyRays(std::span(reinterpret_cast<const unsigned char*>(again.data()), again.size()),
+                      "again.npy", 1 << 16);
     RELIEF_FUZZ_EXPECT(back && back->size() == rays->size());
     for (size_t k = 0; k < rays->size(); ++k) {
         RELIEF_FUZZ_EXPECT((*back)[k].origin == (*rays)[k].origin);

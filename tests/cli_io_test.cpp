@@ -1,13 +1,10 @@
 // The CLI's files for scripts: `relief rays` writes the primary rays `render` traces, so that
 // `relief trace` of them gives render's depth; hit files carry fetches; a per-ray tmax turns
 // farther hits into misses; depth as .npy and .pfm. Pipes are in tests/output_cli_test.cpp.
-#include "support/cli_case.h"
-
+#include <gtest/gtest.h>
 #include <relief/io/npy.h>
 #include <relief/io/ray_io.h>
 #include <relief/io/read_common.h>
-
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -15,6 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "support/cli_case.h"
 
 namespace relief {
 namespace {
@@ -36,8 +35,8 @@ class CliIo : public ::testing::Test {
 
     static void run(const CliCase& c) { testing::runCliCase(c, tmp); }
     static int relief(const std::string& args) {
-        const std::string command = std::string(RELIEF_CLI_PATH) + " -q " + args + " 2>" +
-                                    (tmp / "stderr.txt").string();
+        const std::string command =
+            std::string(RELIEF_CLI_PATH) + " -q " + args + " 2>" + (tmp / "stderr.txt").string();
         const int status = std::system(command.c_str());
         EXPECT_EQ(status, 0) << args << "\n" << readFile(tmp / "stderr.txt");
         return status;
@@ -104,7 +103,8 @@ const CliCase kCases[] = {
     {"trace help: formats", "trace --help", 0, "hit,t,x,y,z,steps,fetches", ""},
     {"trace help: hit dtype", "trace --help", 0, "('fetches','<i4')", ""},
     {"trace help: tmax", "trace --help", 0, "ox,oy,oz,dx,dy,dz[,tmax]", ""},
-    {"render help: depth formats", "render --help", 0, ".pfm (grey, little endian, bottom row first)", ""},
+    {"render help: depth formats", "render --help", 0,
+     ".pfm (grey, little endian, bottom row first)", ""},
     {"rays help", "rays --help", 0, "exactly those `render` traces", ""},
     {"help lists rays", "help", 0, "rays", ""},
     {"rays CSV on stdout", "rays gen:fbm:16x16 --size 2x2", 0, "ox,oy,oz,dx,dy,dz\n", ""},
@@ -114,7 +114,8 @@ const CliCase kCases[] = {
     {"rays into a directory", "rays gen:fbm:16x16 --size 4x4 -o {tmp}", 2, "", "is a directory"},
     {"trace: npy of ints", "trace gen:fbm:16x16 --rays {tmp}/int.npy", 3, "",
      "rays must be float32 or float64"},
-    {"trace: missing npy", "trace gen:fbm:16x16 --rays {tmp}/none.npy", 2, "", "none.npy: cannot open"},
+    {"trace: missing npy", "trace gen:fbm:16x16 --rays {tmp}/none.npy", 2, "",
+     "none.npy: cannot open"},
     {"trace: csv hits with fetches", "trace gen:fbm:16x16 --rays {tmp}/rays.csv -o -", 0,
      "hit,t,x,y,z,steps,fetches\n1,", ""},
 };
@@ -131,8 +132,10 @@ TEST_F(CliIo, RaysThenTraceIsRender) {
     for (const std::string technique : {"exact", "cone"}) {
         relief("rays " + map + view + " -o " + path("r.npy"));
         relief("rays " + map + view + " -o " + path("r.csv"));
-        relief("trace " + map + " -t " + technique + " --rays " + path("r.npy") + " -o " + path("h.npy"));
-        relief("trace " + map + " -t " + technique + " --rays " + path("r.csv") + " -o " + path("h.csv"));
+        relief("trace " + map + " -t " + technique + " --rays " + path("r.npy") + " -o " +
+               path("h.npy"));
+        relief("trace " + map + " -t " + technique + " --rays " + path("r.csv") + " -o " +
+               path("h.csv"));
         relief("render " + map + view + " -t " + technique + " -o " + path("c.png") +
                " --depth-out " + path("d.npy"));
         relief("render " + map + view + " -t " + technique + " -o " + path("c.png") +
@@ -142,7 +145,8 @@ TEST_F(CliIo, RaysThenTraceIsRender) {
         const auto csv = csvRows(path("h.csv"));
         ASSERT_EQ(depth.size(), hits.size());
         ASSERT_EQ(csv.size(), hits.size() + 1);
-        EXPECT_EQ(csv[0], (std::vector<std::string>{"hit", "t", "x", "y", "z", "steps", "fetches"}));
+        EXPECT_EQ(csv[0],
+                  (std::vector<std::string>{"hit", "t", "x", "y", "z", "steps", "fetches"}));
         int covered = 0;
         for (size_t k = 0; k < hits.size(); ++k) {
             EXPECT_EQ(hits[k].hit ? hits[k].t : kInfinity, depth[k]) << technique << " pixel " << k;
@@ -196,23 +200,24 @@ TEST_F(CliIo, NumpyReadsAndWritesTheSameFiles) {
     if (std::system("/usr/bin/python3 -c 'import numpy' 2>/dev/null") != 0)
         GTEST_SKIP() << "no /usr/bin/python3 with numpy";
     const std::string script = path("interop.py");
-    std::ofstream(script) << "import numpy as np, subprocess, sys\n"
-                             "relief, tmp = sys.argv[1], sys.argv[2]\n"
-                             "r = np.array([[8, 8, 30, 0, 0, -1, np.inf], [8, 8, 30, 0, 0, -1, 1]])\n"
-                             "np.save(tmp + '/np.npy', r)\n"
-                             "subprocess.run([relief, 'trace', 'gen:fbm:32x32', '--rays', tmp + "
-                             "'/np.npy', '-o', tmp + '/hits.npy'], check=True)\n"
-                             "h = np.load(tmp + '/hits.npy')\n"
-                             "assert h.dtype.names == ('hit', 't', 'x', 'y', 'z', 'steps', "
-                             "'fetches'), h.dtype\n"
-                             "assert h.dtype['hit'] == np.bool_ and h.shape == (2,), h\n"
-                             "assert h['hit'].tolist() == [True, False], h\n"
-                             "assert np.isinf(h['t'][1]) and np.isnan(h['x'][1]), h\n"
-                             "subprocess.run([relief, 'rays', 'gen:fbm:32x32', '--size', '5x4', "
-                             "'-o', tmp + '/rays.npy'], check=True)\n"
-                             "rays = np.load(tmp + '/rays.npy')\n"
-                             "assert rays.dtype == np.float32 and rays.shape == (20, 6), rays\n"
-                             "assert np.allclose(np.linalg.norm(rays[:, 3:], axis=1), 1), rays\n";
+    std::ofstream(script)
+        << "import numpy as np, subprocess, sys\n"
+           "relief, tmp = sys.argv[1], sys.argv[2]\n"
+           "r = np.array([[8, 8, 30, 0, 0, -1, np.inf], [8, 8, 30, 0, 0, -1, 1]])\n"
+           "np.save(tmp + '/np.npy', r)\n"
+           "subprocess.run([relief, 'trace', 'gen:fbm:32x32', '--rays', tmp + "
+           "'/np.npy', '-o', tmp + '/hits.npy'], check=True)\n"
+           "h = np.load(tmp + '/hits.npy')\n"
+           "assert h.dtype.names == ('hit', 't', 'x', 'y', 'z', 'steps', "
+           "'fetches'), h.dtype\n"
+           "assert h.dtype['hit'] == np.bool_ and h.shape == (2,), h\n"
+           "assert h['hit'].tolist() == [True, False], h\n"
+           "assert np.isinf(h['t'][1]) and np.isnan(h['x'][1]), h\n"
+           "subprocess.run([relief, 'rays', 'gen:fbm:32x32', '--size', '5x4', "
+           "'-o', tmp + '/rays.npy'], check=True)\n"
+           "rays = np.load(tmp + '/rays.npy')\n"
+           "assert rays.dtype == np.float32 and rays.shape == (20, 6), rays\n"
+           "assert np.allclose(np.linalg.norm(rays[:, 3:], axis=1), 1), rays\n";
     const int status = std::system(("/usr/bin/python3 " + script + " " + RELIEF_CLI_PATH + " " +
                                     tmp.string() + " 2>" + path("py.txt"))
                                        .c_str());

@@ -1,12 +1,11 @@
 // The hand-written .npy reader and writer (io/npy.h), the ray and hit files built on them
 // (io/ray_io.h: .npy and CSV with tmax and fetches), and the float image writers (PFM, .npy)
 // read back through relief's own PFM reader.
+#include <gtest/gtest.h>
 #include <relief/io/image_write.h>
 #include <relief/io/npy.h>
 #include <relief/io/ray_io.h>
 #include <relief/io/read_common.h>
-
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -71,7 +70,8 @@ TEST(Npy, PreambleIsWhatNumPyWrites) {
     EXPECT_EQ(p.back(), '\n');
     const int64_t one[] = {5};
     EXPECT_NE(npyPreamble(kHitFields, one).find("'shape': (5,)"), std::string::npos);
-    EXPECT_NE(npyPreamble(kHitFields, one).find("[('hit', '|b1'), ('t', '<f4')"), std::string::npos);
+    EXPECT_NE(npyPreamble(kHitFields, one).find("[('hit', '|b1'), ('t', '<f4')"),
+              std::string::npos);
 }
 
 TEST(Npy, RaysRoundTripExactlyWithAndWithoutTmax) {
@@ -95,9 +95,9 @@ TEST(Npy, RaysRoundTripExactlyWithAndWithoutTmax) {
 }
 
 TEST(Npy, Float64RaysWithTmaxAreNormalized) {
-    const std::string file = npyWithDict(raysDict("<f8", "(2, 7)"),
-                                         floats<double>({1, 2, 3, 0, 0, -2, 5,  //
-                                                         4, 5, 6, 3, 0, 4, INFINITY}));
+    const std::string file =
+        npyWithDict(raysDict("<f8", "(2, 7)"), floats<double>({1, 2, 3, 0, 0, -2, 5,  //
+                                                               4, 5, 6, 3, 0, 4, INFINITY}));
     auto rays = decode(file);
     ASSERT_TRUE(rays) << rays.error().message;
     ASSERT_EQ(rays->size(), 2u);
@@ -120,8 +120,9 @@ TEST(Npy, MalformedFilesAreRefusedWithTheReason) {
                 ErrorKind::InvalidInput, "truncated before its length");
     expectError(decode(npyWithDict(raysDict("<f4", "(1, 6)"), six).substr(0, 40)),
                 ErrorKind::InvalidInput, "bad .npy header: truncated");
-    expectError(decode(npyWithDict("{'descr': '<f4', 'fortran_order': True, 'shape': (1, 6)}", six)),
-                ErrorKind::Unsupported, "fortran_order=True");
+    expectError(
+        decode(npyWithDict("{'descr': '<f4', 'fortran_order': True, 'shape': (1, 6)}", six)),
+        ErrorKind::Unsupported, "fortran_order=True");
     expectError(decode(npyWithDict(raysDict(">f4", "(1, 6)"), six)), ErrorKind::Unsupported,
                 "big-endian dtype '>f4'");
     expectError(decode(npyWithDict(raysDict("<c8", "(1, 6)"), six)), ErrorKind::Unsupported,
@@ -147,28 +148,31 @@ TEST(Npy, MalformedFilesAreRefusedWithTheReason) {
                 "1 rays, more than 0 (--max-rays)");
     // The dict itself.
     expectError(decode(npyWithDict("[1, 2]", six)), ErrorKind::InvalidInput, "not a Python dict");
-    expectError(decode(npyWithDict("{'descr': '<f4', 'shape': (1, 6)}", six)), ErrorKind::InvalidInput,
-                "needs the keys");
+    expectError(decode(npyWithDict("{'descr': '<f4', 'shape': (1, 6)}", six)),
+                ErrorKind::InvalidInput, "needs the keys");
     expectError(decode(npyWithDict("{'descr': '<f4', 'fortran_order': False, 'shape': (1, 6), "
-                                   "'extra': 1}", six)),
+                                   "'extra': 1}",
+                                   six)),
                 ErrorKind::InvalidInput, "unexpected or repeated key 'extra'");
     expectError(decode(npyWithDict(std::string(20000, '{'), six)), ErrorKind::InvalidInput,
                 "bytes long (at most 10000)");
     expectError(decode(npyWithDict(std::string(200, '(') + std::string(200, ')'), six)),
                 ErrorKind::InvalidInput, "not a Python dict");
     expectError(decode(npyWithDict("{'descr': [('a', '<f4', (6,))], 'fortran_order': False, "
-                                   "'shape': (1,)}", six)),
+                                   "'shape': (1,)}",
+                                   six)),
                 ErrorKind::Unsupported, "('name', 'type') pairs");
     // A bad value names its row, as a CSV line names its line.
-    expectError(decode(npyWithDict(raysDict("<f4", "(2, 6)"), six + floats<float>({1, 2, 3, 0, 0, 0}))),
-                ErrorKind::InvalidInput, "r.npy: row 1: zero or unusable direction");
+    expectError(
+        decode(npyWithDict(raysDict("<f4", "(2, 6)"), six + floats<float>({1, 2, 3, 0, 0, 0}))),
+        ErrorKind::InvalidInput, "r.npy: row 1: zero or unusable direction");
     expectError(decode(npyWithDict(raysDict("<f4", "(1, 7)"), six + floats<float>({-1}))),
                 ErrorKind::InvalidInput, "r.npy: row 0: tmax -1 is not a number >= 0");
 }
 
 TEST(RayCsv, TmaxColumnIsOptionalPerLine) {
-    auto rays = parseRays("ox,oy,oz,dx,dy,dz,tmax\n1,2,3,0,0,-1,4.5\n1,2,3,0,0,-1\n1,2,3,0,0,-1,inf\n",
-                          "r.csv");
+    auto rays = parseRays(
+        "ox,oy,oz,dx,dy,dz,tmax\n1,2,3,0,0,-1,4.5\n1,2,3,0,0,-1\n1,2,3,0,0,-1,inf\n", "r.csv");
     ASSERT_TRUE(rays) << rays.error().message;
     ASSERT_EQ(rays->size(), 3u);
     EXPECT_EQ((*rays)[0].tMax, 4.5f);
@@ -189,7 +193,8 @@ TEST(HitFiles, CsvAndNpyCarryFetches) {
     hits[0] = Hit{true, 2.5f, vec3(1, 2, 3), 7, 11};
     hits[1].steps = 4;
     hits[1].fetches = 9;
-    EXPECT_EQ(formatHits(hits), "hit,t,x,y,z,steps,fetches\n1,2.5,1,2,3,7,11\n0,inf,nan,nan,nan,4,9\n");
+    EXPECT_EQ(formatHits(hits),
+              "hit,t,x,y,z,steps,fetches\n1,2.5,1,2,3,7,11\n0,inf,nan,nan,nan,4,9\n");
     const std::string npy = npyHits(hits);
     FilePtr in(::fmemopen(const_cast<char*>(npy.data()), npy.size(), "r"));
     auto header = readNpyHeader(in.get(), int64_t(npy.size()), "h.npy");

@@ -76,7 +76,8 @@ void writeOutputs(OutputSet& outputs, const RenderOptions& o, const TechniqueRun
                   const std::string& colorPath, const std::string& stepsPath,
                   const std::string& errorPath) {
     if (!colorPath.empty()) orFail(writePng(outputs, colorPath, run.result.color));
-    if (!o.depthOut.empty()) orFail(writeFloatImage(outputs, o.depthOut, depthValues(run.result.hits)));
+    if (!o.depthOut.empty())
+        orFail(writeFloatImage(outputs, o.depthOut, depthValues(run.result.hits)));
     if (!stepsPath.empty()) orFail(writePng(outputs, stepsPath, run.stepsImage(run)));
     if (!errorPath.empty()) orFail(writePng(outputs, errorPath, run.errorImage(run)));
 }
@@ -436,7 +437,10 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
     cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique ('-' = stdout)");
     cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
-    cmd->add_option("--depth-out", o->depthOut, "t per pixel, +inf where missed (single technique): .npy (float32, shape (H,W), row 0 at the top), .pfm (grey, little endian, bottom row first) or else OpenEXR (channel Y)");
+    cmd->add_option(
+        "--depth-out", o->depthOut,
+        "t per pixel, +inf where missed (single technique): .npy (float32, shape (H,W), row 0 at "
+        "the top), .pfm (grey, little endian, bottom row first) or else OpenEXR (channel Y)");
     cmd->add_option("--steps-out", o->stepsOut, "steps heatmap PNG with colour bar (single technique)");
     cmd->add_option("--error-out", o->errorOut, "|t - t_exact| heatmap PNG (single technique)");
     cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();

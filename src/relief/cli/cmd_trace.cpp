@@ -60,10 +60,13 @@ void addTraceCommand(CLI::App& app) {
         "nan). The format comes from the extension: .npy, else CSV; '-' is CSV");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
-    cmd->add_option("--rays", o->rays, "ray file: .csv/.txt or .npy ('-' = CSV on stdin, read as it streams in)")->required();
+    cmd->add_option("--rays", o->rays,
+                    "ray file: .csv/.txt or .npy ('-' = CSV on stdin, read as it streams in)")
+        ->required();
     cmd->add_option("--max-rays", o->maxRays, "refuse ray files with more rays (checked while reading)")
         ->check(CLI::Range(size_t(1), kMaxRaysPerFile))->capture_default_str();
-    cmd->add_option("-o,--output", o->output, "hit file: .csv or .npy ('-' = CSV on stdout)")->capture_default_str();
+    cmd->add_option("-o,--output", o->output, "hit file: .csv or .npy ('-' = CSV on stdout)")
+        ->capture_default_str();
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runTrace(*o); });
 }

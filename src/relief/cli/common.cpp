@@ -122,7 +122,8 @@ Result<ivec2> parseImageSize(const std::string& text) {
     const bool parsed = x != std::string::npos && a.ec == std::errc() && a.ptr == text.data() + x &&
                         b.ec == std::errc() && b.ptr == end;
     if (!parsed || w < 1 || h < 1 || w > 16384 || h > 16384)
-        return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each", text);
+        return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each",
+                         text);
     return ivec2(w, h);
 }
 

@@ -122,8 +122,8 @@ class PyLiteralParser {
 // Bytes of one value of a NumPy type string, or 0 for a type relief does not read.
 int64_t typeBytes(std::string_view type) {
     static constexpr std::pair<std::string_view, int> kTypes[] = {
-        {"|b1", 1}, {"|u1", 1}, {"|i1", 1}, {"<u2", 2}, {"<i2", 2}, {"<f2", 2}, {"<u4", 4},
-        {"<i4", 4}, {"<f4", 4}, {"<u8", 8}, {"<i8", 8}, {"<f8", 8}};
+        {"|b1", 1}, {"|u1", 1}, {"|i1", 1}, {"<u2", 2}, {"<i2", 2}, {"<f2", 2},
+        {"<u4", 4}, {"<i4", 4}, {"<f4", 4}, {"<u8", 8}, {"<i8", 8}, {"<f8", 8}};
     for (const auto& [name, bytes] : kTypes)
         if (name == type) return bytes;
     return 0;
@@ -132,12 +132,12 @@ int64_t typeBytes(std::string_view type) {
 Result<NpyField> fieldOf(std::string name, std::string type, const std::string& what) {
     // '=' is the native order, little endian on every machine relief runs on.
     if (!type.empty() && type[0] == '=') type[0] = '<';
-    if (type.size() == 3 && type[0] == '<' && (type[1] == 'b' || type[1] == 'u' || type[1] == 'i') &&
-        type[2] == '1')
+    if (type.size() == 3 && type[0] == '<' &&
+        (type[1] == 'b' || type[1] == 'u' || type[1] == 'i') && type[2] == '1')
         type[0] = '|';
     if (!type.empty() && type[0] == '>')
-        return makeError(ErrorKind::Unsupported, "{}: big-endian dtype '{}' (relief reads little-endian .npy)",
-                         what, type);
+        return makeError(ErrorKind::Unsupported,
+                         "{}: big-endian dtype '{}' (relief reads little-endian .npy)", what, type);
     if (typeBytes(type) == 0)
         return makeError(ErrorKind::Unsupported, "{}: dtype '{}' is not one relief reads", what,
                          type);
@@ -157,16 +157,18 @@ Result<NpyHeader> headerOf(const PyValue& dict, const std::string& what) {
                                : key == "fortran_order" ? &fortran
                                : key == "shape"         ? &shape
                                                         : nullptr;
-        if (!slot || *slot) return badHeader(what, fmt::format("unexpected or repeated key '{}'", key));
+        if (!slot || *slot)
+            return badHeader(what, fmt::format("unexpected or repeated key '{}'", key));
         *slot = &dict.items[k];
     }
     if (!descr || !fortran || !shape)
         return badHeader(what, "it needs the keys 'descr', 'fortran_order' and 'shape'");
-    if (fortran->kind != PyValue::Kind::Boolean) return badHeader(what, "fortran_order is not True/False");
+    if (fortran->kind != PyValue::Kind::Boolean)
+        return badHeader(what, "fortran_order is not True/False");
     if (fortran->boolean)
-        return makeError(ErrorKind::Unsupported,
-                         "{}: fortran_order=True (relief reads C-order arrays: np.ascontiguousarray)",
-                         what);
+        return makeError(
+            ErrorKind::Unsupported,
+            "{}: fortran_order=True (relief reads C-order arrays: np.ascontiguousarray)", what);
     if (descr->kind == PyValue::Kind::String) {
         auto field = fieldOf("", descr->text, what);
         if (!field) return field.error();
@@ -174,9 +176,11 @@ Result<NpyHeader> headerOf(const PyValue& dict, const std::string& what) {
     } else if (descr->kind == PyValue::Kind::Sequence && !descr->items.empty()) {
         for (const PyValue& f : descr->items) {
             if (f.kind != PyValue::Kind::Sequence || f.items.size() != 2 ||
-                f.items[0].kind != PyValue::Kind::String || f.items[1].kind != PyValue::Kind::String)
+                f.items[0].kind != PyValue::Kind::String ||
+                f.items[1].kind != PyValue::Kind::String)
                 return makeError(ErrorKind::Unsupported,
-                                 "{}: structured dtype fields must be ('name', 'type') pairs", what);
+                                 "{}: structured dtype fields must be ('name', 'type') pairs",
+                                 what);
             auto field = fieldOf(f.items[0].text, f.items[1].text, what);
             if (!field) return field.error();
             h.fields.push_back(std::move(*field));
@@ -234,25 +238,30 @@ Result<NpyHeader> readNpyHeader(std::FILE* in, int64_t fileSize, const std::stri
     unsigned char fixed[12] = {};
     const size_t got = std::fread(fixed, 1, 8, in);
     if (got < 8 || std::memcmp(fixed, kMagic, sizeof kMagic) != 0)
-        return makeError(ErrorKind::InvalidInput, "{}: not a .npy file (no \\x93NUMPY magic)", what);
+        return makeError(ErrorKind::InvalidInput, "{}: not a .npy file (no \\x93NUMPY magic)",
+                         what);
     const int major = fixed[6], minor = fixed[7];
     if ((major != 1 && major != 2) || minor != 0)
-        return makeError(ErrorKind::Unsupported, "{}: .npy format version {}.{} (relief reads 1.0 and 2.0)",
-                         what, major, minor);
+        return makeError(ErrorKind::Unsupported,
+                         "{}: .npy format version {}.{} (relief reads 1.0 and 2.0)", what, major,
+                         minor);
     const size_t lengthBytes = major == 1 ? 2 : 4;
     if (std::fread(fixed + 8, 1, lengthBytes, in) != lengthBytes)
         return badHeader(what, "truncated before its length");
     int64_t length = 0;
     for (size_t k = lengthBytes; k-- > 0;) length = length * 256 + fixed[8 + k];
     if (length > kMaxNpyHeaderBytes)
-        return badHeader(what, fmt::format("{} bytes long (at most {})", length, kMaxNpyHeaderBytes));
+        return badHeader(what,
+                         fmt::format("{} bytes long (at most {})", length, kMaxNpyHeaderBytes));
     std::string text(size_t(length), '\0');
     if (std::fread(text.data(), 1, text.size(), in) != text.size())
         return badHeader(what, "truncated");
-    if (text.empty() || text.back() != '\n') return badHeader(what, "it does not end with a newline");
+    if (text.empty() || text.back() != '\n')
+        return badHeader(what, "it does not end with a newline");
     auto dict = PyLiteralParser(text).parseAll();
     if (!dict || dict->kind != PyValue::Kind::Dict)
-        return badHeader(what, "not a Python dict literal {'descr': ..., 'fortran_order': ..., 'shape': ...}");
+        return badHeader(
+            what, "not a Python dict literal {'descr': ..., 'fortran_order': ..., 'shape': ...}");
     auto header = headerOf(*dict, what);
     if (!header) return header.error();
     header->dataOffset = int64_t(8 + lengthBytes) + length;
@@ -260,8 +269,8 @@ Result<NpyHeader> readNpyHeader(std::FILE* in, int64_t fileSize, const std::stri
     const int64_t present = fileSize - header->dataOffset;
     if (present < needed)
         return makeError(ErrorKind::InvalidInput,
-                         "{}: truncated .npy: shape {} needs {} bytes of data, the file has {}", what,
-                         npyShapeText(header->shape), needed, present);
+                         "{}: truncated .npy: shape {} needs {} bytes of data, the file has {}",
+                         what, npyShapeText(header->shape), needed, present);
     if (present > needed)
         return makeError(ErrorKind::InvalidInput,
                          "{}: {} bytes after the data of shape {} (a wrong shape?)", what,

@@ -418,8 +418,9 @@ Status OutputSet::commit() {
 
 bool hasExtension(std::string_view path, std::string_view ext) {
     return path.size() >= ext.size() &&
-           std::equal(ext.begin(), ext.end(), path.end() - std::ptrdiff_t(ext.size()),
-                      [](char e, char p) { return e == std::tolower(static_cast<unsigned char>(p)); });
+           std::equal(
+               ext.begin(), ext.end(), path.end() - std::ptrdiff_t(ext.size()),
+               [](char e, char p) { return e == std::tolower(static_cast<unsigned char>(p)); });
 }
 
 void setAnonymousTempsForTesting(bool allowed) { gAnonymousTemps = allowed; }

@@ -80,8 +80,8 @@ class RayCollector {
         ++m_lineNumber;
         const auto where = [&] { return fmt::format("{}:{}", m_what, m_lineNumber); };
         if (line.find('\0') != std::string_view::npos)
-            return makeError(ErrorKind::InvalidInput, "{}: NUL byte in a ray line (not a text file?)",
-                             where());
+            return makeError(ErrorKind::InvalidInput,
+                             "{}: NUL byte in a ray line (not a text file?)", where());
         if (line.size() > kMaxRayLineBytes)
             return makeError(ErrorKind::InvalidInput, "{}: line longer than {} bytes", where(),
                              kMaxRayLineBytes);
@@ -146,12 +146,13 @@ Result<std::vector<Ray>> readNpyRays(std::FILE* in, int64_t size, const std::str
         return makeError(ErrorKind::InvalidInput,
                          "{}: rays must be float32 or float64 of shape (N, 6) [ox,oy,oz,dx,dy,dz] "
                          "or (N, 7) [..., tmax]; this is {} {}",
-                         what, header->fields.size() == 1 ? header->fields[0].type : "a structured dtype",
+                         what,
+                         header->fields.size() == 1 ? header->fields[0].type : "a structured dtype",
                          npyShapeText(header->shape));
     const size_t rows = size_t(header->shape[0]);
     if (rows > maxRays)
-        return makeError(ErrorKind::InvalidInput, "{}: {} rays, more than {} (--max-rays)", what, rows,
-                         maxRays);
+        return makeError(ErrorKind::InvalidInput, "{}: {} rays, more than {} (--max-rays)", what,
+                         rows, maxRays);
     RayCollector collector(what, maxRays);
     const size_t rowBytes = size_t(columns) * (f4 ? 4 : 8);
     constexpr size_t kBlockRows = 4096;
@@ -185,7 +186,8 @@ void append(std::string& out, T value) {
 }
 
 bool anyTmax(const std::vector<Ray>& rays) {
-    return std::any_of(rays.begin(), rays.end(), [](const Ray& r) { return std::isfinite(r.tMax); });
+    return std::any_of(rays.begin(), rays.end(),
+                       [](const Ray& r) { return std::isfinite(r.tMax); });
 }
 
 }  // namespace

@@ -29,8 +29,8 @@ inline constexpr double kMaxRayOrigin = double(int64_t(1) << 40);
 
 // The dtype of a .npy hit file: np.dtype([('hit', '?'), ('t', '<f4'), ('x', '<f4'), ('y', '<f4'),
 // ('z', '<f4'), ('steps', '<i4'), ('fetches', '<i4')]).
-inline const NpyField kHitFields[] = {{"hit", "|b1"}, {"t", "<f4"},     {"x", "<f4"},
-                                      {"y", "<f4"},   {"z", "<f4"},     {"steps", "<i4"},
+inline const NpyField kHitFields[] = {{"hit", "|b1"},    {"t", "<f4"}, {"x", "<f4"},
+                                      {"y", "<f4"},      {"z", "<f4"}, {"steps", "<i4"},
                                       {"fetches", "<i4"}};
 
 // True when `path` names a .npy file (by its extension, in any case).
