@@ -194,8 +194,8 @@ Result<NpyHeader> headerOf(const PyValue& dict, const std::string& what) {
     for (const PyValue& d : shape->items) {
         if (d.kind != PyValue::Kind::Integer) return badHeader(what, "shape holds a non-integer");
         h.shape.push_back(d.integer);
-        // Bounded so that elements × itemBytes cannot overflow either.
-        if (d.integer != 0 && h.elements > (int64_t(1) << 56) / d.integer)
+        // At most 2^56 bytes of data, so that no size computed from the shape overflows.
+        if (d.integer != 0 && h.elements > (int64_t(1) << 56) / h.itemBytes / d.integer)
             return makeError(ErrorKind::InvalidInput, "{}: absurd shape {}", what,
                              npyShapeText(h.shape));
         h.elements *= d.integer;
