@@ -33,12 +33,13 @@ void runRays(const RaysOptions& o) {
 void addRaysCommand(CLI::App& app) {
     auto o = std::make_shared<RaysOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "rays",
-        "write the primary rays of a view, exactly those `render` traces on the plane (one per "
-        "pixel through its centre, row-major from the top-left pixel), as a ray file for "
-        "`relief trace --rays`: .npy float32 of shape (W*H, 6) [ox,oy,oz,dx,dy,dz] or CSV lines "
-        "with a header (nine significant digits: the floats exactly); the format comes from the "
-        "extension ('-' = CSV on stdout)");
+        "rays", "write the primary rays of a view, the ones `render` traces, for `relief trace`");
+    cmd->footer(
+        "The rays are exactly those `render` traces on the plane for the same view options: one "
+        "per pixel through its centre, row-major from the top-left pixel, in texel space. Output: "
+        ".npy float32 of shape (W*H, 6) [ox,oy,oz,dx,dy,dz], or CSV lines with a header (nine "
+        "significant digits: the floats exactly); the format comes from the extension ('-' = CSV "
+        "on stdout).");
     addSurfaceOptions(*cmd, o->surface);
     addViewOptions(*cmd, o->view);
     cmd->add_option("--size", o->size, "image size WxH")->capture_default_str();

@@ -49,15 +49,15 @@ void runTrace(const TraceOptions& o) {
 void addTraceCommand(CLI::App& app) {
     auto o = std::make_shared<TraceOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "trace",
-        "trace rays from a ray file and write one hit per ray. Rays (texel space): CSV lines "
-        "ox,oy,oz,dx,dy,dz[,tmax] (a header line allowed), or .npy float32/float64 of shape (N,6) "
-        "or (N,7) in that order. tmax (+inf: none) is the ray's length from its given origin: "
-        "the tracers stop there and a hit beyond it is reported as a miss. Hits: CSV "
-        "hit,t,x,y,z,steps,fetches (a miss: 0,inf,nan,nan,nan,steps,fetches), or .npy, a "
-        "structured array of shape (N,) with dtype [('hit','?'), ('t','<f4'), ('x','<f4'), "
-        "('y','<f4'), ('z','<f4'), ('steps','<i4'), ('fetches','<i4')] (a miss: t inf, x,y,z "
-        "nan). The format comes from the extension: .npy, else CSV; '-' is CSV");
+        "trace", "trace rays from a ray file (CSV or .npy) and write one hit per ray (CSV or .npy)");
+    cmd->footer(
+        "Rays, in texel space: CSV lines ox,oy,oz,dx,dy,dz[,tmax] (a header line allowed), or .npy "
+        "float32/float64 of shape (N,6) or (N,7) in that order. tmax (+inf: none) is the ray's "
+        "length from its origin as given: the tracers stop there, and a hit beyond it is reported "
+        "as a miss.\nHits: CSV hit,t,x,y,z,steps,fetches (a miss: 0,inf,nan,nan,nan,steps,fetches), "
+        "or .npy, a structured array of shape (N,) with dtype [('hit','?'), ('t','<f4'), "
+        "('x','<f4'), ('y','<f4'), ('z','<f4'), ('steps','<i4'), ('fetches','<i4')] (a miss: t "
+        "inf, x,y,z nan).\nThe format comes from the extension: .npy, else CSV; '-' is CSV.");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
     cmd->add_option("--rays", o->rays,
