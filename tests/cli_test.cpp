@@ -39,7 +39,7 @@ protected:
 
 const CliCase kCases[] = {
     // Working commands.
-    {"trace exact", "trace gen:peaks6:32x32 --rays {tmp}/rays.csv", 0, "hit,t,x,y,z,steps\n1,", ""},
+    {"trace exact", "trace gen:peaks6:32x32 --rays {tmp}/rays.csv", 0, "hit,t,x,y,z,steps,fetches\n1,", ""},
     {"trace linear", "trace gen:peaks6:32x32 -t linear --max-steps 16 --param binary-steps=4 --rays {tmp}/rays.csv -o -", 0, "hit,t", ""},
     {"info text", "info gen:fbm:40x30", 0, "40x30 samples", ""},
     {"info json", "info gen:ramp:8x8 --format json", 0, "\"width\": 8", ""},

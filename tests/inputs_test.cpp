@@ -191,8 +191,8 @@ TEST_F(Inputs, FarRaysHitInsideTheBox) {
         return v;
     };
     const std::vector<double> a = fields(far), b = fields(near);
-    ASSERT_EQ(a.size(), 6u);
-    ASSERT_EQ(b.size(), 6u);
+    ASSERT_EQ(a.size(), 7u);
+    ASSERT_EQ(b.size(), 7u);
     EXPECT_EQ(a[0], 1.0) << far;
     EXPECT_EQ(b[0], 1.0) << near;
     for (int k = 2; k < 5; ++k) {

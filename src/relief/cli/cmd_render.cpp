@@ -14,7 +14,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -73,25 +72,12 @@ std::vector<std::string> techniqueList(const std::string& spec) {
     return names;
 }
 
-Result<ivec2> parseImageSize(const std::string& text) {
-    // from_chars: "4294967328" overflows into an error, not into 32.
-    int w = 0, h = 0;
-    const size_t x = text.find('x');
-    const char* end = text.data() + text.size();
-    const auto a = std::from_chars(text.data(), text.data() + std::min(x, text.size()), w);
-    const auto b = x == std::string::npos ? a : std::from_chars(text.data() + x + 1, end, h);
-    const bool parsed = x != std::string::npos && a.ec == std::errc() && a.ptr == text.data() + x &&
-                        b.ec == std::errc() && b.ptr == end;
-    if (!parsed || w < 1 || h < 1 || w > 16384 || h > 16384)
-        return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each", text);
-    return ivec2(w, h);
-}
-
 void writeOutputs(OutputSet& outputs, const RenderOptions& o, const TechniqueRun& run,
                   const std::string& colorPath, const std::string& stepsPath,
                   const std::string& errorPath) {
     if (!colorPath.empty()) orFail(writePng(outputs, colorPath, run.result.color));
-    if (!o.depthOut.empty()) orFail(writeExr(outputs, o.depthOut, depthValues(run.result.hits)));
+    if (!o.depthOut.empty())
+        orFail(writeFloatImage(outputs, o.depthOut, depthValues(run.result.hits)));
     if (!stepsPath.empty()) orFail(writePng(outputs, stepsPath, run.stepsImage(run)));
     if (!errorPath.empty()) orFail(writePng(outputs, errorPath, run.errorImage(run)));
 }
@@ -451,7 +437,10 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
     cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique ('-' = stdout)");
     cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
-    cmd->add_option("--depth-out", o->depthOut, "t per pixel as OpenEXR (single technique)");
+    cmd->add_option(
+        "--depth-out", o->depthOut,
+        "t per pixel, +inf where missed (single technique): .npy (float32, shape (H,W), row 0 at "
+        "the top), .pfm (grey, little endian, bottom row first) or else OpenEXR (channel Y)");
     cmd->add_option("--steps-out", o->stepsOut, "steps heatmap PNG with colour bar (single technique)");
     cmd->add_option("--error-out", o->errorOut, "|t - t_exact| heatmap PNG (single technique)");
     cmd->add_option("--format", o->format, "summary format")->check(CLI::IsMember({"text", "json"}))->capture_default_str();

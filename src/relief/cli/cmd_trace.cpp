@@ -1,4 +1,4 @@
-// relief trace HEIGHTFIELD -t TECH --rays rays.csv -o hits.csv
+// relief trace HEIGHTFIELD -t TECH --rays rays.csv|rays.npy|- -o hits.csv|hits.npy|-
 #include <relief/cli/common.h>
 #include <relief/core/parallel.h>
 #include <relief/io/ray_io.h>
@@ -22,13 +22,25 @@ void runTrace(const TraceOptions& o) {
     auto surface = orFail(makeSurface(o.surface, hf));
     auto tracer = orFail(makeTracer(o.technique, surface));
     std::vector<Ray> rays = orFail(readRays(o.rays, o.maxRays));
-    // Far origins are brought to the box in double first; their hits get the distance back.
+    std::vector<float> tMax(rays.size());
+    // Far origins are brought to the box in double first (tmax with them); their hits get the
+    // distance back.
     std::vector<double> offsets(rays.size());
-    for (size_t k = 0; k < rays.size(); ++k) rays[k] = surface->nearBox(rays[k], offsets[k]);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        tMax[k] = rays[k].tMax;
+        rays[k] = surface->nearBox(rays[k], offsets[k]);
+    }
     std::vector<Hit> hits(rays.size());
     traceAll(*tracer, rays, hits);
-    for (size_t k = 0; k < hits.size(); ++k)
-        if (hits[k].hit) hits[k].t = float(double(hits[k].t) + offsets[k]);
+    for (size_t k = 0; k < hits.size(); ++k) {
+        if (!hits[k].hit) continue;
+        hits[k].t = float(double(hits[k].t) + offsets[k]);
+        // The tracers clip to tMax; a technique that overshoots it still reports a miss there.
+        if (hits[k].t > tMax[k]) {
+            hits[k].hit = false;
+            hits[k].t = kInfinity;
+        }
+    }
     orFail(writeHits(o.output, hits));
 }
 
@@ -37,15 +49,24 @@ void runTrace(const TraceOptions& o) {
 void addTraceCommand(CLI::App& app) {
     auto o = std::make_shared<TraceOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "trace",
-        "trace rays from a CSV file (ox,oy,oz,dx,dy,dz per line, texel space) and write "
-        "hit,t,x,y,z,steps per ray");
+        "trace", "trace rays from a ray file (CSV or .npy) and write one hit per ray (CSV or .npy)");
+    cmd->footer(
+        "Rays, in texel space: CSV lines ox,oy,oz,dx,dy,dz[,tmax] (a header line allowed), or .npy "
+        "float32/float64 of shape (N,6) or (N,7) in that order. tmax (+inf: none) is the ray's "
+        "length from its origin as given: the tracers stop there, and a hit beyond it is reported "
+        "as a miss.\nHits: CSV hit,t,x,y,z,steps,fetches (a miss: 0,inf,nan,nan,nan,steps,fetches), "
+        "or .npy, a structured array of shape (N,) with dtype [('hit','?'), ('t','<f4'), "
+        "('x','<f4'), ('y','<f4'), ('z','<f4'), ('steps','<i4'), ('fetches','<i4')] (a miss: t "
+        "inf, x,y,z nan).\nThe format comes from the extension: .npy, else CSV; '-' is CSV.");
     addSurfaceOptions(*cmd, o->surface);
     addTechniqueOptions(*cmd, o->technique);
-    cmd->add_option("--rays", o->rays, "ray file ('-' = stdin)")->required();
+    cmd->add_option("--rays", o->rays,
+                    "ray file: .csv/.txt or .npy ('-' = CSV on stdin, read as it streams in)")
+        ->required();
     cmd->add_option("--max-rays", o->maxRays, "refuse ray files with more rays (checked while reading)")
         ->check(CLI::Range(size_t(1), kMaxRaysPerFile))->capture_default_str();
-    cmd->add_option("-o,--output", o->output, "hit file ('-' = stdout)")->capture_default_str();
+    cmd->add_option("-o,--output", o->output, "hit file: .csv or .npy ('-' = CSV on stdout)")
+        ->capture_default_str();
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runTrace(*o); });
 }

@@ -92,8 +92,7 @@ void addThreadsOption(CLI::App& app, int& threads) {
         ->check(CLI::Range(0, kMaxThreads))->capture_default_str();
 }
 
-void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
-                      const CameraLimits& limits) {
+void addViewOptions(CLI::App& app, OrbitView& view, const CameraLimits& limits) {
     app.add_option("--elevation", view.elevationDeg, "camera elevation above the base (degrees)")
         ->check(finiteRange(-90.0, 90.0))->capture_default_str();
     app.add_option("--azimuth", view.azimuthDeg, "camera azimuth (degrees)")
@@ -102,10 +101,30 @@ void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, flo
         ->check(finiteRange(limits.minDistance, limits.maxDistance))->capture_default_str();
     app.add_option("--fov", view.fovDeg, "vertical field of view (degrees)")
         ->check(finiteRange(limits.minFov, limits.maxFov))->capture_default_str();
+}
+
+void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
+                      const CameraLimits& limits) {
+    addViewOptions(app, view, limits);
     app.add_option("--light-elevation", lightElevation, "light elevation (degrees)")
         ->check(finiteRange(-90.0, 90.0))->capture_default_str();
     app.add_option("--light-azimuth", lightAzimuth, "light azimuth (degrees)")
         ->check(finiteRange(-kMaxAzimuth, kMaxAzimuth))->capture_default_str();
+}
+
+Result<ivec2> parseImageSize(const std::string& text) {
+    // from_chars: "4294967328" overflows into an error, not into 32.
+    int w = 0, h = 0;
+    const size_t x = text.find('x');
+    const char* end = text.data() + text.size();
+    const auto a = std::from_chars(text.data(), text.data() + std::min(x, text.size()), w);
+    const auto b = x == std::string::npos ? a : std::from_chars(text.data() + x + 1, end, h);
+    const bool parsed = x != std::string::npos && a.ec == std::errc() && a.ptr == text.data() + x &&
+                        b.ec == std::errc() && b.ptr == end;
+    if (!parsed || w < 1 || h < 1 || w > 16384 || h > 16384)
+        return makeError(ErrorKind::BadArgument, "--size '{}': expected WxH, 1 to 16384 each",
+                         text);
+    return ivec2(w, h);
 }
 
 namespace {

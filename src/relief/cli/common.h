@@ -49,6 +49,10 @@ struct CameraLimits {
 };
 void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
                       const CameraLimits& limits = {});
+// The view part alone (--elevation, --azimuth, --distance, --fov): `relief rays`.
+void addViewOptions(CLI::App& app, OrbitView& view, const CameraLimits& limits = {});
+// --size WxH, 1 to 16384 each.
+Result<ivec2> parseImageSize(const std::string& text);
 
 // SurfaceOptions, loadHeightfield(options) and makeSurface(options, hf) come from
 // render/surface_source.h, shared with the bench.
@@ -95,6 +99,7 @@ void addCommands(CLI::App& app);
 int runCommandLine(int argc, char** argv);
 void addInfoCommand(CLI::App& app);
 void addTraceCommand(CLI::App& app);
+void addRaysCommand(CLI::App& app);
 void addRenderCommand(CLI::App& app);
 void addHelpCommand(CLI::App& app);
 void addBakeCommand(CLI::App& app);

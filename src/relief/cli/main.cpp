@@ -22,6 +22,7 @@ void addCommands(CLI::App& app) {
         ->configurable(false);
     addInfoCommand(app);
     addTraceCommand(app);
+    addRaysCommand(app);
     addRenderCommand(app);
     addBakeCommand(app);
     addBenchCommand(app);

@@ -4,6 +4,7 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <relief/io/image_write.h>
+#include <relief/io/npy.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -101,6 +102,35 @@ Status writeExr(OutputSet& outputs, const std::string& path, const ImageF& image
         }
         return {};
     });
+}
+
+namespace {
+
+void appendRow(std::string& out, const ImageF& image, int y) {
+    out.append(reinterpret_cast<const char*>(&image.at(0, y)), sizeof(float) * size_t(image.width));
+}
+
+}  // namespace
+
+Status writePfm(OutputSet& outputs, const std::string& path, const ImageF& image) {
+    // A negative scale says little endian (the floats as this machine holds them).
+    std::string out = fmt::format("Pf\n{} {}\n-1.0\n", image.width, image.height);
+    for (int y = image.height; y-- > 0;) appendRow(out, image, y);
+    return outputs.addText(path, out);
+}
+
+Status writeNpy(OutputSet& outputs, const std::string& path, const ImageF& image) {
+    const NpyField f4[] = {{"", "<f4"}};
+    const int64_t shape[] = {image.height, image.width};
+    std::string out = npyPreamble(f4, shape);
+    for (int y = 0; y < image.height; ++y) appendRow(out, image, y);
+    return outputs.addText(path, out);
+}
+
+Status writeFloatImage(OutputSet& outputs, const std::string& path, const ImageF& image) {
+    if (hasExtension(path, ".npy")) return writeNpy(outputs, path, image);
+    if (hasExtension(path, ".pfm")) return writePfm(outputs, path, image);
+    return writeExr(outputs, path, image);
 }
 
 }  // namespace relief

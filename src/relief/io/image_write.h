@@ -13,6 +13,12 @@ namespace relief {
 
 Status writePng(OutputSet& outputs, const std::string& path, const ImageRgb8& image);
 Status writeExr(OutputSet& outputs, const std::string& path, const ImageF& image);  // channel "Y"
+// A float image as PFM ("Pf", little endian, rows bottom to top as the format stores them: what
+// io/pfm_read.cpp reads) or as .npy float32 of shape (H, W), row 0 at the top.
+Status writePfm(OutputSet& outputs, const std::string& path, const ImageF& image);
+Status writeNpy(OutputSet& outputs, const std::string& path, const ImageF& image);
+// The format from the extension: .npy, .pfm, else OpenEXR.
+Status writeFloatImage(OutputSet& outputs, const std::string& path, const ImageF& image);
 Status writePng(const std::string& path, const ImageRgb8& image);
 Status writeExr(const std::string& path, const ImageF& image);
 

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
@@ -413,6 +414,13 @@ Status OutputSet::commit() {
             if (Status s = renameIntoPlace(*e); !s) return s;
     m_entries.clear();
     return {};
+}
+
+bool hasExtension(std::string_view path, std::string_view ext) {
+    return path.size() >= ext.size() &&
+           std::equal(
+               ext.begin(), ext.end(), path.end() - std::ptrdiff_t(ext.size()),
+               [](char e, char p) { return e == std::tolower(static_cast<unsigned char>(p)); });
 }
 
 void setAnonymousTempsForTesting(bool allowed) { gAnonymousTemps = allowed; }

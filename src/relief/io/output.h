@@ -42,6 +42,9 @@ class OutputSet {
     bool m_committed = false;
 };
 
+// True when `path` ends with `ext` (".npy"), letters in any case: output formats come from it.
+bool hasExtension(std::string_view path, std::string_view ext);
+
 // For tests (a full disk): called before each write relief makes itself and after each temp is
 // filled; a nonzero return is taken as that errno.
 using WriteFaultHook = std::function<int(const std::string& path)>;
