@@ -375,7 +375,7 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
         const std::optional<PartAttributes> attributes = readAttributes(h, p);
         if (Status s = addMapPart(
                 path, maps, version ? std::optional<int>(version->value()) : std::nullopt,
-                attributes, checksum ? &checksum->value() : nullptr, h.name(), file.parts(),
+                attributes, checksum ? &checksum->value() : nullptr, h.hasName() ? h.name() : "", file.parts(),
                 [&] { return readArray(path, file, p, attributes->array); }, first, seen);
             !s)
             return s.error();
