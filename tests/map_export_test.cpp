@@ -312,6 +312,10 @@ const testing::CliCase kExportCases[] = {
     {"pyramid as png", "bake gen:fbm:24x24 --maps quadtree -o {tmp}/f.png", 1, "", "level0 holds 32-bit floats and a PNG holds 8/16-bit codes: write --format ktx2"},
     {"two rows in a ktx2", "bake gen:fbm:24x24 --maps cone,quadtree -o {tmp}/f.ktx2", 1, "", "holds the maps of one technique"},
     {"two pyramids in a ktx2", "bake gen:fbm:24x24 --maps quadtree-oriented -o {tmp}/f.ktx2", 1, "", "write --format exr"},
+    // README.md, "Export maps for an engine", word for word (paths into {tmp}).
+    {"readme png", "bake {src}/data/colorado-elevation-400.png --maps cone --param bits=16 -o {tmp}/colorado.cone.png", 0, "wrote", ""},
+    {"readme ktx2", "bake {src}/data/colorado-elevation-400.png --maps cone --param bits=16 -o {tmp}/colorado.cone.ktx2", 0, "wrote", ""},
+    {"readme trace", "trace {src}/data/colorado-elevation-400.png -t cone --param bits=16 --maps {tmp}/colorado.cone.ktx2 --rays {tmp}/rays.csv", 0, "hit,t", ""},
     {"help maps", "help maps", 0, "cone (conservative): exr, ktx2", ""},
     {"help --markdown alone", "help --markdown", 1, "", "--markdown is for 'help maps' only"},
 };
