@@ -121,6 +121,9 @@ TEST(MapExport, RoundTripIsBitExact) {
             const auto surface = surfaceOf("gen:fbm:13x10:2", 0.3f, edge);
             for (const Overrides& overrides : exportParams(info)) {
                 const MapFile file = bake(info, surface, overrides);
+                for (const MapArray& a : file.techniques.front().arrays)
+                    EXPECT_EQ(channelsOf(info, a.name).size(), size_t(a.channels))
+                        << info.name << "/" << a.name << ": channel specs";
                 for (MapFormat format : {MapFormat::Png, MapFormat::Ktx2}) {
                     const fs::path path = dir / fmt::format("rt.{}", toString(format));
                     auto read = exported(info, file, format, path);
