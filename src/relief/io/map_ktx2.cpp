@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 
@@ -345,6 +346,10 @@ Result<MapFile> readKtx2Maps(FileReader& file) {
                     out.data[(size_t(y) * size_t(x.width) + size_t(i)) * size_t(x.channels) + size_t(c)] =
                         getTexel(in, base + (size_t(y) * w + size_t(i)) * size_t(texelBytes(*f)) + size_t(c * f->bits / 8),
                                  *f, k.storage);
+        for (float v : out.data)
+            if (!std::isfinite(v))
+                return makeError(ErrorKind::InvalidInput, "{}: array '{}' holds non-finite values",
+                                 path, x.name);
         return out;
     });
 }
