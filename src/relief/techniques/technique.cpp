@@ -117,7 +117,7 @@ std::string exportFormats(const TechniqueInfo& info) {
                                vkFormatName(32, padded, true));
     else
         formats += vkFormatName(32, padded, true);
-    formats += family ? "; its arrays as mip levels or layers)" : ")";
+    formats += family ? "; a max pyramid's levels as mip levels, same-size arrays as layers)" : ")";
     if (!family && kind == MapValueKind::Unit && !quantize.empty())
         formats += fmt::format(", png (8/16-bit, baked with {})", quantize);
     else if (!family && kind == MapValueKind::Integer)
