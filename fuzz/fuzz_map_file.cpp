@@ -4,6 +4,7 @@
 // valid map file of one row (baked here on gen:fbm:8x8) is flipped, and the flip must be refused
 // or leave every hit identical. Seeds: fuzz/corpus/map_file/.
 #include "fuzz_common.h"
+#include "fuzz_maps.h"
 #include "../tests/support/map_flip.h"
 
 #include <relief/io/map_file.h>
@@ -103,21 +104,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         flipOne(data, size);
         return 0;
     }
-    auto maps = readMapFile(std::span<const unsigned char>(data, size), "fuzz.maps.exr");
-    if (!maps) return 0;
-    RELIEF_FUZZ_EXPECT(checkMapSource("fuzz.maps.exr", maps->source, maps->source).ok());
-    const MapSource& s = maps->source;
-    RELIEF_FUZZ_EXPECT(s.width >= 1 && s.height >= 1 && s.width <= kMaxDimension &&
-                       s.height <= kMaxDimension);
-    RELIEF_FUZZ_EXPECT(std::isfinite(s.depth) && s.depth >= 0.0f && s.depth <= 1e6f);
-    RELIEF_FUZZ_EXPECT(s.edge == "clamp" || s.edge == "repeat");
-    for (const TechniqueMaps& t : maps->techniques) {
-        RELIEF_FUZZ_EXPECT(maps->find(t.technique) != nullptr);
-        for (const MapArray& a : t.arrays) {
-            RELIEF_FUZZ_EXPECT(a.width >= 1 && a.height >= 1 && a.channels >= 1);
-            RELIEF_FUZZ_EXPECT(a.data.size() ==
-                               size_t(a.width) * size_t(a.height) * size_t(a.channels));
-        }
-    }
+    fuzz::checkMapBytes({data, size}, "fuzz.maps.exr");
     return 0;
 }

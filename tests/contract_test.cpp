@@ -112,6 +112,12 @@ TEST(Registry, EveryRowIsComplete) {
         EXPECT_FALSE(info.summary.empty()) << info.name;
         EXPECT_NE(info.create, nullptr) << info.name;
         EXPECT_EQ(findTechnique(info.name), &info) << "duplicate name " << info.name;
+        // Rows with maps describe their channels (exports, docs/maps.md); rows without have none.
+        EXPECT_EQ(info.buildMaps != nullptr, !info.mapChannels.empty()) << info.name;
+        for (const MapChannelSpec& c : info.mapChannels)
+            EXPECT_FALSE(c.array.empty() || c.name.empty() || c.meaning.empty() ||
+                         c.range.empty() || c.depth.empty())
+                << info.name << " " << c.array << " " << c.name;
         for (const ParamSpec& p : info.params) {
             EXPECT_LE(p.minValue, p.defaultValue) << info.name << " " << p.name;
             EXPECT_LE(p.defaultValue, p.maxValue) << info.name << " " << p.name;

@@ -84,6 +84,34 @@ struct ContractRun {
     std::string error;                  // a tracer could not be made
 };
 
+// Traces `tracer` and the reference on `count` rays of `surface` (seeded), adding to `run` and
+// naming `label` in run.brokenOn where the contract broke.
+inline void traceCase(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+                      const Tracer& tracer, uint32_t seed, size_t count, const std::string& label,
+                      ContractRun& run) {
+    auto reference = createTracer(referenceTechnique().name, surface);
+    RaySets sets(*surface, seed);
+    const std::vector<Ray> rays = sets.all(count);
+    std::vector<Hit> hits(rays.size()), referenceHits(rays.size());
+    tracer.traceBatch(rays, hits);
+    (*reference)->traceBatch(rays, referenceHits);
+    const Tally before = run.tally;
+    for (size_t k = 0; k < rays.size(); ++k)
+        checkAndReport(info, run.contract, rays[k], hits[k], referenceHits[k], run.tally);
+    if (run.contract != Contract::Approximate &&
+        (run.tally.wrongHitMiss != before.wrongHitMiss || run.tally.pastFirstHit != before.pastFirstHit))
+        run.brokenOn.push_back(label);
+}
+
+inline void printRun(const TechniqueInfo& info, const ContractRun& run) {
+    const Tally& t = run.tally;
+    std::printf("[ contract ] %-18s %-12s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
+                "past first hit %zu, mean |dt| %.3g, max |dt| %.3g\n",
+                std::string(info.name).c_str(), std::string(toString(run.contract)).c_str(), t.rays,
+                t.wrongHitMiss, t.beyondTolerance, t.pastFirstHit,
+                t.bothHit ? t.sumError / double(t.bothHit) : 0.0, t.maxError);
+}
+
 // Traces the row with these overrides and the reference on 1200 rays per map case (with
 // `clampOnly`, for forms that exist only in clamp mode: twice as many on the clamp cases).
 inline ContractRun runContractHarness(const TechniqueInfo& info,
@@ -101,26 +129,11 @@ inline ContractRun runContractHarness(const TechniqueInfo& info,
         auto surface = std::make_shared<const Surface>(hf, 0.25f * float(c.width), c.edge);
         auto tracer = createTracer(info.name, surface, overrides);
         if (!tracer) return {.error = tracer.error().message};
-        auto reference = createTracer(referenceTechnique().name, surface);
-        RaySets sets(*surface, seed++);
-        const std::vector<Ray> rays = sets.all(clampOnly ? 2400 : 1200);
-        std::vector<Hit> hits(rays.size()), referenceHits(rays.size());
-        (*tracer)->traceBatch(rays, hits);
-        (*reference)->traceBatch(rays, referenceHits);
-        const Tally before = run.tally;
-        for (size_t k = 0; k < rays.size(); ++k)
-            checkAndReport(info, run.contract, rays[k], hits[k], referenceHits[k], run.tally);
-        if (run.contract != Contract::Approximate &&
-            (run.tally.wrongHitMiss != before.wrongHitMiss || run.tally.pastFirstHit != before.pastFirstHit))
-            run.brokenOn.push_back(fmt::format("{} {}x{} {}", c.generator, c.width, c.height,
-                                               toString(c.edge)));
+        traceCase(info, surface, **tracer, seed++, clampOnly ? 2400 : 1200,
+                  fmt::format("{} {}x{} {}", c.generator, c.width, c.height, toString(c.edge)),
+                  run);
     }
-    const Tally& t = run.tally;
-    std::printf("[ contract ] %-18s %-12s rays %zu, hit/miss differs %zu, |dt|>1e-3 %zu, "
-                "past first hit %zu, mean |dt| %.3g, max |dt| %.3g\n",
-                std::string(info.name).c_str(), std::string(toString(run.contract)).c_str(), t.rays,
-                t.wrongHitMiss, t.beyondTolerance, t.pastFirstHit,
-                t.bothHit ? t.sumError / double(t.bothHit) : 0.0, t.maxError);
+    printRun(info, run);
     return run;
 }
 

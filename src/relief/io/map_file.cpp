@@ -2,6 +2,7 @@
 
 #include <relief/core/heightfield.h>
 #include <relief/io/exr_stream.h>
+#include <relief/io/map_container.h>
 #include <relief/io/image_write.h>
 
 #include <ImfChannelList.h>
@@ -22,6 +23,7 @@
 #include <cmath>
 #include <cstring>
 #include <optional>
+#include <functional>
 #include <set>
 
 namespace relief {
@@ -61,12 +63,6 @@ std::optional<std::map<std::string, std::string>> decodeParameters(const std::st
     }
     return parameters;
 }
-
-// The relief attributes of one part as stored (strings as written), and what its checksum covers.
-struct PartAttributes {
-    std::string technique, array, parameters, hash, size, edge, depth;
-    int index = 0, parts = 0;
-};
 
 PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const MapArray& a,
                             int index, int parts) {
@@ -282,6 +278,88 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
     });
 }
 
+Status addMapPart(const std::string& path, MapFile& maps, std::optional<int> version,
+                  const std::optional<PartAttributes>& attributes, const std::string* checksum,
+                  const std::string& partName, int partsInFile,
+                  const std::function<Result<MapArray>()>& readData,
+                  std::optional<PartAttributes>& first, std::set<std::string>& seen) {
+    const int p = attributes ? attributes->index : int(seen.size());
+    if (!version)
+        return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
+    if (*version < kMapFormatVersion)
+        return makeError(ErrorKind::Unsupported,
+                         "{}: map format version {} has no checksum (this relief "
+                         "reads version {} only); bake the maps again with relief bake",
+                         path, *version, kMapFormatVersion);
+    if (*version != kMapFormatVersion)
+        return makeError(ErrorKind::Unsupported, "{}: map format version {} (this relief reads {}); bake it again",
+                         path, *version, kMapFormatVersion);
+    if (!attributes)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: not a relief map file (part {} lacks relief attributes)", path,
+                         p);
+    if (!checksum)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: part {} has no checksum; bake it again", path,
+                         p);
+    const std::string part = attributes->technique + "/" + attributes->array;
+    auto parameters = decodeParameters(attributes->parameters);
+    if (!isName(attributes->technique) || !isName(attributes->array) || partName != part ||
+        !parameters)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: part {} ('{}') has malformed "
+                         "names or parameters; bake it again",
+                         path, p, partName);
+    if (attributes->parts != partsInFile)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: it says {} parts but holds {}; "
+                         "bake it again",
+                         path, attributes->parts, partsInFile);
+    if (!seen.insert(part).second)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: part '{}' appears twice", path, part);
+    auto source = parseSource(path, *attributes);
+    if (!source) return source.error();
+    if (!first) {
+        maps.source = *source;
+        first = *attributes;
+    } else if (attributes->hash != first->hash || attributes->size != first->size ||
+               attributes->edge != first->edge || attributes->depth != first->depth)
+        return makeError(ErrorKind::InvalidInput, "{}: parts come from different heightfields", path);
+    auto array = readData();
+    if (!array) return array.error();
+    array->name = attributes->array;
+    const std::string computed = checksumText(partChecksum(*attributes, *array));
+    if (*checksum != computed)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: part '{}' has checksum {} but "
+                         "its data and attributes give {}; bake it again",
+                         path, part, *checksum, computed);
+    TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(attributes->technique));
+    if (!t) {
+        maps.techniques.push_back({attributes->technique, std::move(*parameters), {}});
+        t = &maps.techniques.back();
+    } else if (t->parameters != *parameters)
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: map file damaged: the parts of '{}' disagree on "
+                         "its parameters",
+                         path, attributes->technique);
+    t->arrays.push_back(std::move(*array));
+    return {};
+}
+
+std::vector<PartAttributes> partAttributes(const MapFile& maps) {
+    std::vector<PartAttributes> parts;
+    int count = 0;
+    for (const TechniqueMaps& t : maps.techniques) count += int(t.arrays.size());
+    for (const TechniqueMaps& t : maps.techniques)
+        for (const MapArray& a : t.arrays) {
+            parts.push_back(attributesOf(maps, t, a, int(parts.size()), count));
+            parts.back().checksum = checksumText(partChecksum(parts.back(), a));
+        }
+    return parts;
+}
+
 namespace {
 
 // Every part must carry relief's attributes (each validated), one source and a checksum that
@@ -293,68 +371,14 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
     for (int p = 0; p < file.parts(); ++p) {
         const Imf::Header& h = file.header(p);
         const auto* version = attribute<Imf::IntAttribute>(h, "relief.version");
-        if (!version)
-            return makeError(ErrorKind::InvalidInput, "{}: not a relief map file (part {} lacks relief attributes)", path, p);
-        if (version->value() < kMapFormatVersion)
-            return makeError(ErrorKind::Unsupported,
-                             "{}: map format version {} has no checksum (this relief "
-                             "reads version {} only); bake the maps again with relief bake",
-                             path, version->value(), kMapFormatVersion);
-        if (version->value() != kMapFormatVersion)
-            return makeError(ErrorKind::Unsupported, "{}: map format version {} (this relief reads {}); bake it again",
-                             path, version->value(), kMapFormatVersion);
-        auto attributes = readAttributes(h, p);
-        if (!attributes)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: not a relief map file (part {} lacks relief attributes)", path,
-                             p);
         const auto* checksum = attribute<Imf::StringAttribute>(h, "relief.checksum");
-        if (!checksum)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: part {} has no checksum; bake it again", path,
-                             p);
-        const std::string part = attributes->technique + "/" + attributes->array;
-        auto parameters = decodeParameters(attributes->parameters);
-        if (!isName(attributes->technique) || !isName(attributes->array) || h.name() != part ||
-            !parameters)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: part {} ('{}') has malformed "
-                             "names or parameters; bake it again",
-                             path, p, h.name());
-        if (attributes->parts != file.parts())
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: it says {} parts but holds {}; "
-                             "bake it again",
-                             path, attributes->parts, file.parts());
-        if (!seen.insert(part).second)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: part '{}' appears twice", path, part);
-        auto source = parseSource(path, *attributes);
-        if (!source) return source.error();
-        if (p == 0) {
-            maps.source = *source;
-            first = *attributes;
-        } else if (attributes->hash != first->hash || attributes->size != first->size ||
-                   attributes->edge != first->edge || attributes->depth != first->depth)
-            return makeError(ErrorKind::InvalidInput, "{}: parts come from different heightfields", path);
-        auto array = readArray(path, file, p, attributes->array);
-        if (!array) return array.error();
-        const std::string computed = checksumText(partChecksum(*attributes, *array));
-        if (checksum->value() != computed)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: part '{}' has checksum {} but "
-                             "its data and attributes give {}; bake it again",
-                             path, part, checksum->value(), computed);
-        TechniqueMaps* t = const_cast<TechniqueMaps*>(maps.find(attributes->technique));
-        if (!t) {
-            maps.techniques.push_back({attributes->technique, std::move(*parameters), {}});
-            t = &maps.techniques.back();
-        } else if (t->parameters != *parameters)
-            return makeError(ErrorKind::InvalidInput,
-                             "{}: map file damaged: the parts of '{}' disagree on "
-                             "its parameters",
-                             path, attributes->technique);
-        t->arrays.push_back(std::move(*array));
+        const std::optional<PartAttributes> attributes = readAttributes(h, p);
+        if (Status s = addMapPart(
+                path, maps, version ? std::optional<int>(version->value()) : std::nullopt,
+                attributes, checksum ? &checksum->value() : nullptr, h.hasName() ? h.name() : "", file.parts(),
+                [&] { return readArray(path, file, p, attributes->array); }, first, seen);
+            !s)
+            return s.error();
     }
     return maps;
 }
@@ -363,6 +387,9 @@ Result<MapFile> readParts(const std::string& path, Imf::MultiPartInputFile& file
 Result<MapFile> readMapFile(Result<FileReader> reader) {
     if (!reader) return reader.error();
     const std::string path = reader->path();
+    // The engine containers (map_png.cpp, map_ktx2.cpp) carry the same attributes and checks.
+    if (detectFormat(reader->head()) == FileFormat::Png) return readPngMaps(*reader);
+    if (isKtx2(reader->head())) return readKtx2Maps(*reader);
     try {
         limitExrSizes();
         if (auto problem = exrHeaderProblem(*reader))

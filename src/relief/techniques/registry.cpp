@@ -242,6 +242,71 @@ constexpr StudySpec kConeStudies[] = {
      .height = 256, .distance = 1.2f},
 };
 
+// The channels of the baked arrays (docs/maps.md, `relief bake --format png|ktx2`). D is the
+// depth in texel units (the map parameter-free source depth, MapSource::depth).
+constexpr MapChannelSpec kConeChannels[] = {
+    {"cones", "apex", "height a where the texel's cone starts (a frustum over its footprint)",
+     "bits 8/16: a / D in [0, 1] on the grid k / (2^bits - 1); bits 32: texel units, 0..D",
+     MapValueKind::Unit, MapRounding::Up, MapFilter::Nearest,
+     "bits 8/16: divided by D (decode a = v * D * (1 + 2^-20)); bits 32: texel units",
+     "--param bits=16 (or 8)"},
+    {"cones", "ratio", "cone ratio c (horizontal / vertical) no point of S lies inside",
+     "c / cone-max in [0, 1] (sqrt(c / cone-max) with sqrt=1), on the code grid at bits 8/16",
+     MapValueKind::Unit, MapRounding::Down, MapFilter::Nearest,
+     "none in the value; cone-max (map parameter) is from the box, decode c = v * cone-max * "
+     "(1 - 2^-20)",
+     "--param bits=16 (or 8)"},
+};
+constexpr MapChannelSpec kPyramidChannels[] = {
+    {"level*", "max", "maximum of S over the node (its cells' corner maximum)",
+     "texel units, 0..D; level L has ceil(n / 2^L) nodes per axis, n = W+1 from cell -1 (clamp) "
+     "or W (repeat)",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+};
+constexpr MapChannelSpec kOrientedChannels[] = {
+    kPyramidChannels[0],
+    {"oriented*", "c00", "plane over the node at its lower-left corner", "texel units",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+    {"oriented*", "c10", "plane at the lower-right corner", "texel units", MapValueKind::Float,
+     MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+    {"oriented*", "c01", "plane at the upper-left corner", "texel units", MapValueKind::Float,
+     MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+    {"oriented*", "zmax", "flat maximum of the node (the pre-test)", "texel units",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+};
+constexpr MapChannelSpec kQdmChannels[] = {
+    {"qdm", "a", "end of the cone part of the profile (horizontal distance)", "texels, >= 0",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "none (horizontal)"},
+    {"qdm", "b", "profile height at a", "texel units, >= 0", MapValueKind::Float,
+     MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+    {"qdm", "c", "where the parabola tops out (horizontal distance)", "texels, >= a",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "none (horizontal)"},
+    {"qdm", "h", "max of S over the texel's footprint (the profile's base)", "texel units, 0..D",
+     MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
+};
+constexpr MapChannelSpec kSafetySdChannels[] = {
+    {"sd", "x+", "safety distance r of ray class x+ (centerlines free of limiting triangles)",
+     "whole texels 0..max-distance (255 by default); isotropic=1: one channel, the minimum",
+     MapValueKind::Integer, MapRounding::Exact, MapFilter::Nearest, "built for D (not scaled)"},
+    {"sd", "x-", "safety distance of ray class x-", "whole texels", MapValueKind::Integer,
+     MapRounding::Exact, MapFilter::Nearest, "built for D (not scaled)"},
+    {"sd", "y+", "safety distance of ray class y+", "whole texels", MapValueKind::Integer,
+     MapRounding::Exact, MapFilter::Nearest, "built for D (not scaled)"},
+    {"sd", "y-", "safety distance of ray class y-", "whole texels", MapValueKind::Integer,
+     MapRounding::Exact, MapFilter::Nearest, "built for D (not scaled)"},
+};
+constexpr MapChannelSpec kSafetyCcChannels[] = {
+    {"cc*", "r", "cylinder radius (the class's safety distance); arrays ccx+, ccx-, ccy+, ccy- "
+     "(cc with isotropic=1)", "whole texels", MapValueKind::Integer, MapRounding::Exact,
+     MapFilter::Nearest, "built for D (not scaled)"},
+    {"cc*", "zc", "height of the slanted plane at the cylinder's rim (raised by 1e-6 (1 + max))",
+     "texel units", MapValueKind::Float, MapRounding::Up, MapFilter::Nearest,
+     "heights times D (texel units)"},
+    {"cc*", "slope", "slope s_c of the plane beyond r (raised by 1e-6 (1 + |s|))",
+     "texel units per texel", MapValueKind::Float, MapRounding::Up, MapFilter::Nearest,
+     "heights times D per texel"},
+};
+
 // The built-in rows. A function-local table, so that a row registered by another translation
 // unit's static initializer (a plug-in, a test) never sees it uninitialized.
 std::span<const TechniqueInfo> builtinRows() {
@@ -265,43 +330,44 @@ static const TechniqueInfo kTechniques[] = {
      .buildMaps = buildQuadtreeMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "quadtree/quadtree.glsl", .glslConstants = kPyramidWalkGlslConstants,
      .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases,
-     .studies = kQuadtreeStudies},
+     .studies = kQuadtreeStudies, .mapChannels = kPyramidChannels},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
      .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
-     .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants},
+     .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants, .mapChannels = kPyramidChannels},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",
      .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
      .create = createQuadtreeOriented, .buildMaps = buildQuadtreeOrientedMaps, .mapBytesPerTexel = 28,
      .check = checkMaps<orientedMapsFor>, .glsl = "quadtree_oriented/quadtree_oriented.glsl",
-     .glslConstants = kPyramidWalkGlslConstants},
+     .glslConstants = kPyramidWalkGlslConstants, .mapChannels = kOrientedChannels},
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
      .buildMaps = buildConeMaps, .mapBytesPerTexel = 24, .check = checkCone, .glsl = "cone/cone.glsl",
      .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases,
-     .studies = kConeStudies},
+     .studies = kConeStudies, .mapChannels = kConeChannels},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
      .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .mapBytesPerTexel = 24, .check = checkRelaxedCone,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
-     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases},
+     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases, .mapChannels = kConeChannels},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
      .buildMaps = buildQdmMaps, .mapBytesPerTexel = 40, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
      .pathCases = kQdmPathCases,
-     .studies = kQdmStudies},
+     .studies = kQdmStudies, .mapChannels = kQdmChannels},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
      .buildMaps = buildSafetySdMaps, .mapBytesPerTexel = 32, .check = checkMaps<makeSafetySdTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary},
+     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary,
+     .mapChannels = kSafetySdChannels},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
@@ -309,7 +375,7 @@ static const TechniqueInfo kTechniques[] = {
      .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
      .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies,
-     .mapSummary = safety::mapSummary},
+     .mapSummary = safety::mapSummary, .mapChannels = kSafetyCcChannels},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,

@@ -53,6 +53,78 @@ std::string_view toString(ParamRole role) {
     return "?";
 }
 
+std::string_view toString(MapRounding rounding) {
+    switch (rounding) {
+        case MapRounding::Exact: return "exact";
+        case MapRounding::Up: return "up";
+        case MapRounding::Down: return "down";
+    }
+    return "?";
+}
+
+std::string_view toString(MapFilter filter) {
+    return filter == MapFilter::Nearest ? "nearest" : "bilinear";
+}
+
+namespace {
+bool arrayMatches(std::string_view pattern, std::string_view name) {
+    if (!pattern.empty() && pattern.back() == '*')
+        return name.substr(0, pattern.size() - 1) == pattern.substr(0, pattern.size() - 1);
+    return pattern == name;
+}
+
+std::string vkFormatName(int bits, int channels, bool isFloat) {
+    std::string name;
+    const char* letters = channels == 1 ? "R" : channels == 2 ? "RG" : "RGBA";
+    for (const char* c = letters; *c; ++c) name += fmt::format("{}{}", *c, bits);
+    return name + (isFloat ? "_SFLOAT" : "_UNORM");
+}
+}  // namespace
+
+std::vector<const MapChannelSpec*> channelsOf(const TechniqueInfo& info, std::string_view name) {
+    std::vector<const MapChannelSpec*> specs;
+    for (const MapChannelSpec& c : info.mapChannels)
+        if (arrayMatches(c.array, name)) specs.push_back(&c);
+    return specs;
+}
+
+MapValueKind arrayKind(const TechniqueInfo& info, std::string_view name) {
+    const auto specs = channelsOf(info, name);
+    if (specs.empty()) return MapValueKind::Float;
+    for (const MapChannelSpec* c : specs)
+        if (c->kind != specs.front()->kind) return MapValueKind::Float;
+    return specs.front()->kind;
+}
+
+std::string exportFormats(const TechniqueInfo& info) {
+    if (info.mapChannels.empty()) return {};
+    std::vector<std::string_view> arrays;
+    for (const MapChannelSpec& c : info.mapChannels)
+        if (std::find(arrays.begin(), arrays.end(), c.array) == arrays.end())
+            arrays.push_back(c.array);
+    std::string formats = "exr";
+    if (arrays.size() != 1)
+        return formats + " only (its arrays differ in channels: no one PNG or KTX2 texture)";
+    const auto specs = channelsOf(info, arrays.front());
+    const int channels = int(specs.size()), padded = channels == 3 ? 4 : channels;
+    const MapValueKind kind = arrayKind(info, arrays.front());
+    const bool family = arrays.front().back() == '*';
+    const std::string_view quantize = specs.front()->quantize;
+    formats += ", ktx2 (";
+    if (kind == MapValueKind::Unit && !quantize.empty())
+        formats += fmt::format("{} / {} baked with {}, else {}", vkFormatName(8, padded, false),
+                               vkFormatName(16, padded, false), quantize,
+                               vkFormatName(32, padded, true));
+    else
+        formats += vkFormatName(32, padded, true);
+    formats += family ? "; a max pyramid's levels as mip levels, same-size arrays as layers)" : ")";
+    if (!family && kind == MapValueKind::Unit && !quantize.empty())
+        formats += fmt::format(", png (8/16-bit, baked with {})", quantize);
+    else if (!family && kind == MapValueKind::Integer)
+        formats += ", png (8/16-bit integer codes)";
+    return formats;
+}
+
 MapSource mapSourceOf(const Surface& surface) {
     return {surface.heightfield().contentHash(), surface.width(), surface.height(),
             std::string(toString(surface.edge())), surface.depth()};

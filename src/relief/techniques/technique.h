@@ -105,6 +105,27 @@ enum class ImageMethod : uint8_t {
     VisibilityCurves,  // the paper's own whole-image method (render/curves/curves_renderer.h)
 };
 
+// One channel of a baked map array, as exports and docs/maps.md (`relief help maps`) describe it.
+enum class MapRounding : uint8_t {
+    Exact,  // stored as built (floats, integers, maxima of exact values)
+    Up,     // quantized upwards: a higher apex / maximum only shrinks what the map promises free
+    Down,   // quantized downwards: a narrower cone / shorter distance, likewise
+};
+std::string_view toString(MapRounding rounding);
+enum class MapFilter : uint8_t { Nearest, Bilinear };
+std::string_view toString(MapFilter filter);
+struct MapChannelSpec {
+    std::string_view array;  // array name; a trailing '*' names a family ("level*": level0, ...)
+    std::string_view name;   // the channel, e.g. "apex"
+    std::string_view meaning;
+    std::string_view range;  // value range and scale as stored
+    MapValueKind kind;       // what 8/16-bit storage can hold it (io/map_file.h)
+    MapRounding rounding;    // how the bake rounds it when it quantizes
+    MapFilter filter;        // what a shader must sample it with
+    std::string_view depth;  // how the depth D is baked in
+    std::string_view quantize = {};  // how to bake it as 8/16-bit codes ("--param bits=16"), if any
+};
+
 class SphereSurface;  // sphere/sphere_surface.h
 
 // Parameter values by name, complete (defaults filled in) once validated by the registry.
@@ -204,7 +225,18 @@ struct TechniqueInfo {
     // Named statistics of its built maps (snake_case name, value), extra columns of the bench's
     // map-build tables (e.g. the mean safety distance); null: none.
     std::vector<std::pair<std::string, double>> (*mapSummary)(const TechniqueMaps& maps) = nullptr;
+    // The channels of its baked arrays, in array then channel order (empty when it has no maps):
+    // what `relief bake --format png|ktx2` stores and docs/maps.md lists.
+    std::span<const MapChannelSpec> mapChannels = {};
 };
+
+// The channel specs of the array `name` (matching "level*" families), in channel order.
+std::vector<const MapChannelSpec*> channelsOf(const TechniqueInfo& info, std::string_view name);
+// What 8/16-bit storage an array can use: Unit or Integer when all its channels are, else Float.
+MapValueKind arrayKind(const TechniqueInfo& info, std::string_view name);
+// The formats a bake of this row can be written as, for `relief help maps` (e.g. "exr, ktx2
+// (R32_SFLOAT mip levels), png (8/16-bit with --param bits=N)"); empty without maps.
+std::string exportFormats(const TechniqueInfo& info);
 
 // The parameter of `info` with this role (the first), or null.
 const ParamSpec* paramWithRole(const TechniqueInfo& info, ParamRole role);
