@@ -22,13 +22,8 @@ void runTrace(const TraceOptions& o) {
     auto surface = orFail(makeSurface(o.surface, hf));
     auto tracer = orFail(makeTracer(o.technique, surface));
     std::vector<Ray> rays = orFail(readRays(o.rays, o.maxRays));
-    // Far origins are brought to the box in double first; their hits get the distance back.
-    std::vector<double> offsets(rays.size());
-    for (size_t k = 0; k < rays.size(); ++k) rays[k] = surface->nearBox(rays[k], offsets[k]);
     std::vector<Hit> hits(rays.size());
-    traceAll(*tracer, rays, hits);
-    for (size_t k = 0; k < hits.size(); ++k)
-        if (hits[k].hit) hits[k].t = float(double(hits[k].t) + offsets[k]);
+    traceFromAnywhere(*tracer, *surface, rays, hits);
     orFail(writeHits(o.output, hits));
 }
 

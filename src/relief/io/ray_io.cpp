@@ -57,25 +57,14 @@ class RayParser {
             return makeError(ErrorKind::InvalidInput,
                              "{}:{}: expected six numbers ox,oy,oz,dx,dy,dz", m_what, m_lineNumber);
         }
-        for (float x : v)
-            if (!std::isfinite(x))
-                return makeError(ErrorKind::InvalidInput, "{}:{}: non-finite value in ray", m_what,
-                                 m_lineNumber);
-        for (int k = 0; k < 3; ++k)
-            if (std::abs(double(v[k])) > kMaxRayOrigin)
-                return makeError(ErrorKind::InvalidInput,
-                                 "{}:{}: origin coordinate {:g} is too far for float precision "
-                                 "(at most {:g} texels from the origin)",
-                                 m_what, m_lineNumber, v[k], kMaxRayOrigin);
-        const vec3 d(v[3], v[4], v[5]);
-        const float length = glm::length(d);
-        if (!(length > 0.0f) || !std::isfinite(length))
-            return makeError(ErrorKind::InvalidInput, "{}:{}: zero or unusable direction", m_what,
-                             m_lineNumber);
+        auto ray = checkedRay(v);
+        if (!ray)
+            return makeError(ray.error().kind, "{}:{}: {}", m_what, m_lineNumber,
+                             ray.error().message);
         if (m_rays.size() >= m_maxRays)
             return makeError(ErrorKind::InvalidInput, "{}:{}: more than {} rays (--max-rays)",
                              m_what, m_lineNumber, m_maxRays);
-        m_rays.push_back(Ray{vec3(v[0], v[1], v[2]), d / length, kInfinity});
+        m_rays.push_back(*ray);
         return {};
     }
     std::vector<Ray> take() { return std::move(m_rays); }
@@ -88,6 +77,22 @@ class RayParser {
 };
 
 }  // namespace
+
+Result<Ray> checkedRay(const float (&v)[6]) {
+    for (float x : v)
+        if (!std::isfinite(x)) return makeError(ErrorKind::InvalidInput, "non-finite value in ray");
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(double(v[k])) > kMaxRayOrigin)
+            return makeError(ErrorKind::InvalidInput,
+                             "origin coordinate {:g} is too far for float precision "
+                             "(at most {:g} texels from the origin)",
+                             v[k], kMaxRayOrigin);
+    const vec3 d(v[3], v[4], v[5]);
+    const float length = glm::length(d);
+    if (!(length > 0.0f) || !std::isfinite(length))
+        return makeError(ErrorKind::InvalidInput, "zero or unusable direction");
+    return Ray{vec3(v[0], v[1], v[2]), d / length, kInfinity};
+}
 
 Result<std::vector<Ray>> parseRays(std::string_view text, const std::string& what, size_t maxRays) {
     RayParser parser(what, maxRays);

@@ -20,6 +20,11 @@ inline constexpr size_t kMaxRayLineBytes = 4096;
 // here); such rays are refused rather than traced to a hit somewhere else.
 inline constexpr double kMaxRayOrigin = double(int64_t(1) << 40);
 
+// The checks every ray source applies (ray files, the Python module's arrays): finite numbers
+// ox,oy,oz,dx,dy,dz, the origin within kMaxRayOrigin, a usable direction (normalized here). The
+// message names no location: the caller prefixes its own (file and line, array row).
+Result<Ray> checkedRay(const float (&values)[6]);
+
 // Directions are normalized; zero or non-finite values, origins beyond kMaxRayOrigin, a NUL byte,
 // an overlong line and more than `maxRays` rays are errors naming the line, found while reading
 // (nothing is read past them).
