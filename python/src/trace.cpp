@@ -151,7 +151,7 @@ std::vector<Hit> hitsOf(const py::object& hits, const char* what) {
     const auto steps = field<int32_t>(hits, "steps", what);
     bool hasFetches = true;
     try {
-        hits[py::str("fetches")];
+        py::object column = hits[py::str("fetches")];  // item access is lazy until assigned
     } catch (py::error_already_set&) {
         hasFetches = false;
     }
