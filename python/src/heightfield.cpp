@@ -30,9 +30,9 @@ PyHeightfield made(std::shared_ptr<const Heightfield> hf, SurfaceOptions options
 std::string rangeText(const py::object& range) {
     if (range.is_none()) return {};
     if (py::isinstance<py::str>(range)) return range.cast<std::string>();
-    const auto pair = range.cast<std::vector<double>>();
-    if (pair.size() != 2)
-        raise(makeError(ErrorKind::BadArgument, "height_range: expected (lo, hi) or 'LO:HI'"));
+    const char* expected = "(lo, hi) or 'LO:HI'";
+    const auto pair = castArgument<std::vector<double>>(range, "height_range", expected);
+    if (pair.size() != 2) raise(makeError(ErrorKind::BadArgument, "height_range: expected {}", expected));
     return fmt::format("{:.17g}:{:.17g}", pair[0], pair[1]);
 }
 
@@ -42,11 +42,11 @@ std::string windowSuffix(const py::object& crop, const py::object& centre) {
         raise(makeError(ErrorKind::BadArgument, "crop and centre: give one window, not both"));
     const py::object& window = crop.is_none() ? centre : crop;
     if (window.is_none()) return {};
-    const auto v = window.cast<std::vector<int>>();
-    if (v.size() != 4)
-        raise(makeError(ErrorKind::BadArgument, "{}: expected four integers (x, y, w, h)",
-                        crop.is_none() ? "centre" : "crop"));
-    return fmt::format("@{}={},{},{},{}", crop.is_none() ? "centre" : "crop", v[0], v[1], v[2], v[3]);
+    const char* name = crop.is_none() ? "centre" : "crop";
+    const char* expected = "four integers (x, y, w, h)";
+    const auto v = castArgument<std::vector<int>>(window, name, expected);
+    if (v.size() != 4) raise(makeError(ErrorKind::BadArgument, "{}: expected {}", name, expected));
+    return fmt::format("@{}={},{},{},{}", name, v[0], v[1], v[2], v[3]);
 }
 
 PyHeightfield load(const std::string& path, std::optional<double> depth, double depthRatio,

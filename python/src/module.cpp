@@ -5,6 +5,7 @@
 #include <relief/techniques/technique.h>
 
 #include <cmath>
+#include <optional>
 
 namespace relief::python {
 
@@ -45,11 +46,21 @@ Overrides overridesOf(const py::kwargs& params) {
         std::string name = py::cast<std::string>(key);
         for (char& c : name)
             if (c == '_') c = '-';
-        if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value) &&
-            !py::hasattr(value, "__float__"))
+        for (const auto& [given, _] : overrides)
+            if (given == name)  // max_steps=4 and **{"max-steps": 5}: the last would win silently
+                raise(makeError(ErrorKind::BadArgument, "parameter '{}' is given twice", name));
+        // Numbers only (float("3") would take a string); py::float_ fails on e.g. an array.
+        std::optional<double> number;
+        if (!py::isinstance<py::str>(value) && !py::isinstance<py::bytes>(value)) {
+            try {
+                number = py::cast<double>(py::float_(py::reinterpret_borrow<py::object>(value)));
+            } catch (py::error_already_set&) {  // fetched: the Python error is cleared
+            }
+        }
+        if (!number)
             raise(makeError(ErrorKind::BadArgument, "parameter '{}': expected a number, got {}",
                             name, py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
-        overrides.emplace_back(name, py::cast<double>(value.attr("__float__")()));
+        overrides.emplace_back(name, *number);
     }
     return overrides;
 }

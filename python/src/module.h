@@ -52,6 +52,16 @@ struct PyMaps {
     void check(const Surface& surface) const;
 };
 
+// `value` as T, or ValueError "<what>: expected <expected>" (not pybind11's RuntimeError).
+template <class T>
+T castArgument(const py::handle& value, const char* what, const char* expected) {
+    try {
+        return value.cast<T>();
+    } catch (const py::cast_error&) {
+        raise(makeError(ErrorKind::BadArgument, "{}: expected {}", what, expected));
+    }
+}
+
 using Overrides = std::vector<std::pair<std::string, double>>;
 // Keyword parameters as overrides: snake_case names become the registry's kebab-case
 // (max_steps -> max-steps); values must be numbers (bool counts as 0 or 1).

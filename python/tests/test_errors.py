@@ -46,8 +46,29 @@ def test_bad_arguments_are_valueerror(cli, fbm):
         relief.trace(fbm, UP, DOWN, threads=-1)
     with pytest.raises(ValueError):
         relief.trace(fbm, UP, DOWN, technique="linear", max_steps="many")
+    with pytest.raises(ValueError, match="given twice"):
+        relief.trace(fbm, UP, DOWN, technique="linear", max_steps=3, **{"max-steps": 4})
+    with pytest.raises(ValueError, match="expected a number"):
+        relief.trace(fbm, UP, DOWN, technique="linear", max_steps=np.array([1, 2]))
+    with pytest.raises(ValueError, match="crop: expected four integers"):
+        relief.Heightfield.load("gen:fbm:8x8", crop="abc")
+    with pytest.raises(ValueError, match="maps: expected relief.Maps"):
+        relief.trace(fbm, UP, DOWN, maps="maps.exr")
+    with pytest.raises(ValueError, match="own method"):
+        relief.render(fbm, "curves", size=(8, 8))
     with pytest.raises(TypeError):
         relief.Heightfield.load("gen:fbm:8x8", depht=3)
+
+
+def test_bad_hit_sets(fbm):
+    good = relief.trace(fbm, UP, DOWN, technique="exact")
+    for bad in [{"hit": [1], "t": [np.inf], "steps": [0]},        # a hit without a distance
+                {"hit": [1, 0], "t": [1.0], "steps": [0, 0]},     # lengths differ
+                {"hit": [1], "t": [1.0]},                         # no steps
+                [1, 2, 3], None]:
+        with pytest.raises(ValueError):
+            relief.compare(good, bad)
+    assert relief.compare(good, {"hit": good["hit"], "t": good["t"], "steps": good["steps"]})["wrong"] == 0
 
 
 def test_bad_ray_arrays(fbm, cli, tmp_path):
