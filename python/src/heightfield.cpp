@@ -1,17 +1,18 @@
 // relief.Heightfield: load (the CLI's loader and its options), generate, from_array, and the
 // samples as a numpy view.
-#include "module.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <optional>
 
+#include "module.h"
+
 namespace relief::python {
 
 namespace {
 
-SurfaceOptions surfaceOptions(std::optional<double> depth, double depthRatio, const std::string& edge) {
+SurfaceOptions surfaceOptions(std::optional<double> depth, double depthRatio,
+                              const std::string& edge) {
     SurfaceOptions o;
     if (depth) o.depth = float(*depth);
     o.depthRatio = float(depthRatio);
@@ -32,7 +33,8 @@ std::string rangeText(const py::object& range) {
     if (py::isinstance<py::str>(range)) return range.cast<std::string>();
     const char* expected = "(lo, hi) or 'LO:HI'";
     const auto pair = castArgument<std::vector<double>>(range, "height_range", expected);
-    if (pair.size() != 2) raise(makeError(ErrorKind::BadArgument, "height_range: expected {}", expected));
+    if (pair.size() != 2)
+        raise(makeError(ErrorKind::BadArgument, "height_range: expected {}", expected));
     return fmt::format("{:.17g}:{:.17g}", pair[0], pair[1]);
 }
 
@@ -107,9 +109,10 @@ PyHeightfield fromArray(const py::object& input, std::optional<double> depth, do
 
 void bindHeightfield(py::module_& m) {
     using namespace pybind11::literals;
-    py::class_<PyHeightfield>(m, "Heightfield",
-                              "A W x H grid of heights in [0, 1] with its relief depth (texels) and "
-                              "edge mode: the canonical surface of DESIGN section 2.")
+    py::class_<PyHeightfield>(
+        m, "Heightfield",
+        "A W x H grid of heights in [0, 1] with its relief depth (texels) and "
+        "edge mode: the canonical surface of DESIGN section 2.")
         .def_static("load", &load, "path"_a, py::kw_only(), "depth"_a = py::none(),
                     "depth_ratio"_a = 0.1, "edge"_a = "clamp", "invert"_a = false,
                     "height_range"_a = py::none(), "raw"_a = "", "channel"_a = "luminance",
@@ -120,8 +123,7 @@ void bindHeightfield(py::module_& m) {
                     "--height-range, --raw, --channel, --max-samples, @crop=/@centre= windows). "
                     "OSError when the file cannot be read, ValueError for bad options or content.")
         .def_static("generate", &generate, "name"_a, "width"_a, "height"_a, py::kw_only(),
-                    "seed"_a = 1, "depth"_a = py::none(), "depth_ratio"_a = 0.1,
-                    "edge"_a = "clamp",
+                    "seed"_a = 1, "depth"_a = py::none(), "depth_ratio"_a = 0.1, "edge"_a = "clamp",
                     "A built-in heightfield (core/generators.h: sine, peaks6, fbm, walls, spikes, "
                     "terraces, ramp, flat), the same as the CLI's gen:NAME:WxH:SEED.")
         .def_static("from_array", &fromArray, "array"_a, py::kw_only(), "depth"_a = py::none(),
@@ -132,9 +134,9 @@ void bindHeightfield(py::module_& m) {
                     "rescales them.")
         .def_property_readonly("width", [](const PyHeightfield& h) { return h.samples->width; })
         .def_property_readonly("height", [](const PyHeightfield& h) { return h.samples->height; })
-        .def_property_readonly("depth",
-                               [](const PyHeightfield& h) { return h.surface()->depth(); },
-                               "relief depth D in texels")
+        .def_property_readonly(
+            "depth", [](const PyHeightfield& h) { return h.surface()->depth(); },
+            "relief depth D in texels")
         .def_property_readonly("edge", [](const PyHeightfield& h) { return h.options.edge; })
         .def_property_readonly("source", [](const PyHeightfield& h) { return h.options.source; })
         .def_property_readonly(
@@ -146,8 +148,9 @@ void bindHeightfield(py::module_& m) {
                 const PyHeightfield& h = self.cast<const PyHeightfield&>();
                 const auto w = py::ssize_t(h.samples->width), hgt = py::ssize_t(h.samples->height);
                 // A view of the samples, writable, that keeps this Heightfield alive.
-                return py::array_t<float>({hgt, w}, {w * py::ssize_t(sizeof(float)), py::ssize_t(sizeof(float))},
-                                          h.samples->samples.data(), self);
+                return py::array_t<float>(
+                    {hgt, w}, {w * py::ssize_t(sizeof(float)), py::ssize_t(sizeof(float))},
+                    h.samples->samples.data(), self);
             },
             "the samples as a (height, width) float32 numpy view, no copy; writes are seen by the "
             "next call (values must stay in [0, 1])")

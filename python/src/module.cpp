@@ -14,9 +14,15 @@ void raise(const Error& error) {
     switch (error.kind) {
         case ErrorKind::BadArgument:
         case ErrorKind::InvalidInput:
-        case ErrorKind::Unsupported: type = PyExc_ValueError; break;
-        case ErrorKind::Io: type = PyExc_OSError; break;
-        case ErrorKind::Runtime: type = PyExc_RuntimeError; break;
+        case ErrorKind::Unsupported:
+            type = PyExc_ValueError;
+            break;
+        case ErrorKind::Io:
+            type = PyExc_OSError;
+            break;
+        case ErrorKind::Runtime:
+            type = PyExc_RuntimeError;
+            break;
     }
     py::object exception = py::reinterpret_borrow<py::object>(type)(error.message);
     exception.attr("exit_code") = int(error.kind);
@@ -59,7 +65,8 @@ Overrides overridesOf(const py::kwargs& params) {
         }
         if (!number)
             raise(makeError(ErrorKind::BadArgument, "parameter '{}': expected a number, got {}",
-                            name, py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
+                            name,
+                            py::str(py::type::of(value).attr("__name__")).cast<std::string>()));
         overrides.emplace_back(name, *number);
     }
     return overrides;

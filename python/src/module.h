@@ -2,15 +2,14 @@
 // The Python module's glue (python/src): relief errors as Python exceptions, keyword parameters
 // as registry overrides, and the objects Python holds. Only conversions live here; the work is
 // the library's.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
 #include <relief/core/error.h>
 #include <relief/core/heightfield.h>
 #include <relief/io/map_file.h>
 #include <relief/render/surface_source.h>
 #include <relief/surface/surface.h>
-
-#include <pybind11/numpy.h>
-#include <pybind11/pybind11.h>
-#include <pybind11/stl.h>
 
 #include <memory>
 #include <string>

@@ -1,12 +1,12 @@
 // relief.render(): a technique's image (relief render's per-pixel path) as numpy arrays.
-#include "trace.h"
-
 #include <relief/core/memory_budget.h>
 #include <relief/core/parallel.h>
 #include <relief/render/renderer.h>
 #include <relief/techniques/registry.h>
 
 #include <cstring>
+
+#include "trace.h"
 
 namespace relief::python {
 
@@ -38,8 +38,9 @@ py::dict render(const PyHeightfield& hf, const std::string& technique, double el
                   {"light_azimuth", lightAzimuth, kMaxAzimuth}};
     for (const auto& l : lights)
         if (!(std::abs(l.value) <= l.limit))  // NaN fails too
-            raise(makeError(ErrorKind::BadArgument, "{} {:g} is not a finite number from {:g} to {:g}",
-                            l.name, l.value, -l.limit, l.limit));
+            raise(makeError(ErrorKind::BadArgument,
+                            "{} {:g} is not a finite number from {:g} to {:g}", l.name, l.value,
+                            -l.limit, l.limit));
     const int64_t pixels = int64_t(size.first) * size.second;
     orRaise(reserveMemory(pixels * int64_t(sizeof(Hit)) + renderPeakBytes(pixels, shadows),
                           fmt::format("render size {}x{}", size.first, size.second)));
@@ -65,13 +66,14 @@ py::dict render(const PyHeightfield& hf, const std::string& technique, double el
     std::vector<uint8_t> rgb(3 * result.color.pixels.size());
     std::memcpy(rgb.data(), result.color.pixels.data(), rgb.size());
     out["color"] = ownedArray(std::move(rgb), {hits.height, hits.width, 3});
-    out["hit"] = imageOf<uint8_t>(hits, [](const Hit& h) { return uint8_t(h.hit); }).attr("astype")("bool");
+    out["hit"] =
+        imageOf<uint8_t>(hits, [](const Hit& h) { return uint8_t(h.hit); }).attr("astype")("bool");
     out["depth"] = imageOf<float>(hits, [](const Hit& h) { return h.hit ? h.t : kInfinity; });
     out["steps"] = imageOf<int32_t>(hits, [](const Hit& h) { return h.steps; });
     out["fetches"] = imageOf<int32_t>(hits, [](const Hit& h) { return h.fetches; });
     if (error) {
-        out["error"] = ownedArray(std::move(errorValues(hits, reference).pixels),
-                                  {hits.height, hits.width});
+        out["error"] =
+            ownedArray(std::move(errorValues(hits, reference).pixels), {hits.height, hits.width});
         out["stats"] = statsDict(compareHits(hits, reference));
     }
     return out;
@@ -84,8 +86,8 @@ void bindRender(py::module_& m) {
     m.def("render", &render, "heightfield"_a, "technique"_a = "exact", py::kw_only(),
           "elevation"_a = 40.2, "azimuth"_a = 30.0, "distance"_a = 1.2, "fov"_a = 45.0,
           "size"_a = std::pair<int, int>(800, 600), "light_elevation"_a = 45.0,
-          "light_azimuth"_a = 135.0, "shadows"_a = false, "error"_a = true,
-          "maps"_a = py::none(), "backend"_a = "cpu", "threads"_a = 0,
+          "light_azimuth"_a = 135.0, "shadows"_a = false, "error"_a = true, "maps"_a = py::none(),
+          "backend"_a = "cpu", "threads"_a = 0,
           "Renders a technique's image as relief render does (orbit camera, Lambert shading, one "
           "primary ray per pixel: the rays of camera_rays with the same view). Returns a dict of "
           "numpy images, row 0 at the top: color (H, W, 3) uint8, hit (H, W) bool, depth (H, W) "

@@ -1,7 +1,7 @@
 // relief.techniques(), relief.bake() and relief.Maps: the registry rows and baked maps.
-#include "module.h"
-
 #include <relief/techniques/registry.h>
+
+#include "module.h"
 
 namespace relief::python {
 
@@ -89,8 +89,9 @@ void bindTechniques(py::module_& m) {
                 orRaise(withoutGil([&] { return writeMapFile(path, *maps.file); }));
             },
             "path"_a, "Writes the maps as one OpenEXR file (what relief --maps FILE reads).")
-        .def("check", [](const PyMaps& maps, const PyHeightfield& hf) { maps.check(*hf.surface()); },
-             "heightfield"_a, "ValueError when the maps were baked from another heightfield.")
+        .def(
+            "check", [](const PyMaps& maps, const PyHeightfield& hf) { maps.check(*hf.surface()); },
+            "heightfield"_a, "ValueError when the maps were baked from another heightfield.")
         .def_property_readonly("techniques",
                                [](const PyMaps& maps) {
                                    py::list names;
@@ -98,14 +99,15 @@ void bindTechniques(py::module_& m) {
                                        names.append(t.technique);
                                    return names;
                                })
-        .def_property_readonly("parameters",
-                               [](const PyMaps& maps) {
-                                   py::dict out;
-                                   for (const TechniqueMaps& t : maps.file->techniques)
-                                       out[py::str(t.technique)] = t.parameters;
-                                   return out;
-                               },
-                               "{technique: {parameter: value as baked}}")
+        .def_property_readonly(
+            "parameters",
+            [](const PyMaps& maps) {
+                py::dict out;
+                for (const TechniqueMaps& t : maps.file->techniques)
+                    out[py::str(t.technique)] = t.parameters;
+                return out;
+            },
+            "{technique: {parameter: value as baked}}")
         .def_property_readonly("source",
                                [](const PyMaps& maps) {
                                    const MapSource& s = maps.file->source;

@@ -34,8 +34,8 @@ Doubles rowsOf3(const py::object& input, const char* what) {
         raise(makeError(ErrorKind::BadArgument, "{}: expected an (N, 3) array of numbers", what));
     }
     if (array.ndim() != 2 || array.shape(1) != 3)
-        raise(makeError(ErrorKind::BadArgument, "{}: expected an (N, 3) array, got shape {}",
-                        what, py::str(array.attr("shape")).cast<std::string>()));
+        raise(makeError(ErrorKind::BadArgument, "{}: expected an (N, 3) array, got shape {}", what,
+                        py::str(array.attr("shape")).cast<std::string>()));
     return array;
 }
 
@@ -44,8 +44,8 @@ std::vector<Ray> raysOf(const py::object& origins, const py::object& directions,
     const Doubles o = rowsOf3(origins, "origins"), d = rowsOf3(directions, "directions");
     const size_t n = size_t(o.shape(0));
     if (size_t(d.shape(0)) != n)
-        raise(makeError(ErrorKind::BadArgument, "origins has {} rows, directions {}", n,
-                        d.shape(0)));
+        raise(
+            makeError(ErrorKind::BadArgument, "origins has {} rows, directions {}", n, d.shape(0)));
     std::vector<double> limits;
     if (!tMax.is_none()) {
         const auto t = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(tMax);
@@ -61,8 +61,8 @@ std::vector<Ray> raysOf(const py::object& origins, const py::object& directions,
     const double* pd = d.data();
     for (size_t k = 0; k < n; ++k) {
         // The checks of a ray file's lines (io/ray_io.h), in float as there.
-        const float v[6] = {float(po[3 * k]),     float(po[3 * k + 1]), float(po[3 * k + 2]),
-                            float(pd[3 * k]),     float(pd[3 * k + 1]), float(pd[3 * k + 2])};
+        const float v[6] = {float(po[3 * k]), float(po[3 * k + 1]), float(po[3 * k + 2]),
+                            float(pd[3 * k]), float(pd[3 * k + 1]), float(pd[3 * k + 2])};
         auto ray = checkedRay(v);
         if (!ray)
             raise(makeError(ErrorKind::BadArgument, "row {} of origins/directions: {}", k,
@@ -129,7 +129,8 @@ py::tuple cameraRays(const PyHeightfield& hf, double elevation, double azimuth, 
 // A field of a trace result, a dict or anything indexable by name, as a flat array.
 template <class T>
 py::array_t<T, py::array::c_style | py::array::forcecast> field(const py::object& hits,
-                                                                const char* name, const char* what) {
+                                                                const char* name,
+                                                                const char* what) {
     py::object column;
     try {
         column = hits[py::str(name)];
@@ -172,7 +173,8 @@ std::vector<Hit> hitsOf(const py::object& hits, const char* what) {
         out[k].steps = steps.data()[k];
         out[k].fetches = fetches ? fetches[k] : 0;
         if (out[k].hit && !std::isfinite(out[k].t))
-            raise(makeError(ErrorKind::BadArgument, "{}: ray {} hits at t = {}", what, k, out[k].t));
+            raise(
+                makeError(ErrorKind::BadArgument, "{}: ray {} hits at t = {}", what, k, out[k].t));
     }
     return out;
 }
@@ -192,8 +194,8 @@ py::dict compare(const py::object& reference, const py::object& hits) {
     ref.pixels = hitsOf(reference, "reference");
     run.pixels = hitsOf(hits, "hits");
     if (ref.pixels.size() != run.pixels.size())
-        raise(makeError(ErrorKind::BadArgument, "reference has {} rays, hits {}",
-                        ref.pixels.size(), run.pixels.size()));
+        raise(makeError(ErrorKind::BadArgument, "reference has {} rays, hits {}", ref.pixels.size(),
+                        run.pixels.size()));
     ref.width = run.width = int(ref.pixels.size());
     ref.height = run.height = 1;
     return statsDict(compareHits(run, ref));
@@ -217,9 +219,8 @@ py::dict statsDict(const ErrorStats& stats) {
     return d;
 }
 
-TracerSpec tracerSpec(const PyHeightfield& hf, const std::string& technique,
-                      const py::object& maps, const std::string& backend, int threads,
-                      const py::kwargs& params) {
+TracerSpec tracerSpec(const PyHeightfield& hf, const std::string& technique, const py::object& maps,
+                      const std::string& backend, int threads, const py::kwargs& params) {
     checkThreads(threads);
     if (backend != "cpu" && backend != "gl")
         raise(makeError(ErrorKind::BadArgument, "backend '{}': cpu or gl", backend));
@@ -230,7 +231,8 @@ TracerSpec tracerSpec(const PyHeightfield& hf, const std::string& technique,
     spec.backend = backend == "gl" ? Backend::Gl : Backend::Cpu;
     if (!maps.is_none()) {
         if (!py::isinstance<PyMaps>(maps))
-            raise(makeError(ErrorKind::BadArgument, "maps: expected relief.Maps (relief.bake or "
+            raise(makeError(ErrorKind::BadArgument,
+                            "maps: expected relief.Maps (relief.bake or "
                             "relief.Maps.load), got {}",
                             py::str(py::type::of(maps).attr("__name__")).cast<std::string>()));
         spec.maps = maps.cast<PyMaps>();

@@ -1,14 +1,14 @@
 #pragma once
 // What trace() and render() share: a technique's tracer as the Python arguments name it, the
 // orbit camera, and hit statistics as a dict.
-#include "module.h"
-
 #include <relief/gl/gl_tracer.h>
 #include <relief/render/camera.h>
 #include <relief/render/compare.h>
 #include <relief/techniques/technique.h>
 
 #include <optional>
+
+#include "module.h"
 
 namespace relief::python {
 
@@ -22,9 +22,8 @@ struct TracerSpec {
     // The CLI's makeTracer: techniqueInput (maps from `maps`, else built), createTracer(backend).
     Result<std::unique_ptr<Tracer>> create() const;
 };
-TracerSpec tracerSpec(const PyHeightfield& hf, const std::string& technique,
-                      const py::object& maps, const std::string& backend, int threads,
-                      const py::kwargs& params);
+TracerSpec tracerSpec(const PyHeightfield& hf, const std::string& technique, const py::object& maps,
+                      const std::string& backend, int threads, const py::kwargs& params);
 
 // Python's numbers (double) as the camera's floats.
 OrbitView orbitView(double elevation, double azimuth, double distance, double fov);

@@ -38,8 +38,9 @@ Status checkOrbitView(const OrbitView& view, int width, int height, const Camera
                   {"height", double(height), 1.0, 16384.0}};
     for (const auto& c : checks)
         if (!(c.value >= c.lo && c.value <= c.hi))  // NaN fails too
-            return makeError(ErrorKind::BadArgument, "{} {:g} is not a finite number from {:g} to {:g}",
-                             c.name, c.value, c.lo, c.hi);
+            return makeError(ErrorKind::BadArgument,
+                             "{} {:g} is not a finite number from {:g} to {:g}", c.name, c.value,
+                             c.lo, c.hi);
     return {};
 }
 

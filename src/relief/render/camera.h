@@ -25,7 +25,8 @@ struct CameraLimits {
 };
 // BadArgument naming the first value out of its range (angles, distance, fov; image size 1 to
 // 16384 each way), for callers that do not parse options (the Python module).
-Status checkOrbitView(const OrbitView& view, int width, int height, const CameraLimits& limits = {});
+Status checkOrbitView(const OrbitView& view, int width, int height,
+                      const CameraLimits& limits = {});
 
 // DESIGN §4 standard sets.
 inline constexpr float kStandardElevations[] = {2.9f, 15.3f, 27.8f, 40.2f, 52.7f, 65.1f, 77.6f, 90.0f};
