@@ -2,7 +2,7 @@
 """Layering test (ctest `layering`): the include graph follows STYLE.md.
 
 Reads every `#include <relief/...>`, `#include <support/...>` and `#include "..."` in the C++
-files of src/, tests/, fuzz/ and bench/ and checks:
+files of src/, tests/, fuzz/, bench/ and python/ and checks:
   direction   a file includes its own layer and below, never above (LEVEL below; viewer and
               bench are peers that do not include each other);
   technique   outside src/relief/techniques/<tech>/ only techniques/registry.cpp includes it
@@ -25,14 +25,14 @@ LEVEL = {
     # curves/ sits at render level until it is split into techniques/curves, sphere/, render/.
     "render": 3, "gl": 3, "report": 3, "embree": 3, "curves": 3,
     "bench": 4, "viewer": 4,
-    "cli": 5,
+    "cli": 5, "python": 5,  # python/: the Python module, a program beside the CLI
     "tests": 6,  # tests/, fuzz/, every *_test.cpp, tests/support/
 }
 # Pairs at one level that still must not include each other (includer, included).
-SEPARATE_PEERS = {("viewer", "bench"), ("bench", "viewer")}
+SEPARATE_PEERS = {("viewer", "bench"), ("bench", "viewer"), ("python", "cli")}
 # Folders of techniques/ that hold machinery several rows share, not a technique.
 SHARED_TECHNIQUE_FOLDERS = {"common", "safety_common"}
-SCANNED = ("src", "tests", "fuzz", "bench")
+SCANNED = ("src", "tests", "fuzz", "bench", "python")
 SUFFIXES = (".h", ".hpp", ".cpp", ".cc", ".inl")
 
 # (file pattern, include pattern, reason): fnmatch patterns on repo-relative paths; the include
@@ -52,6 +52,8 @@ def module_of(path):
         return module, tech, is_test
     if parts[0] == "bench":
         return "bench", None, False
+    if parts[0] == "python":
+        return "python", None, False
     return "tests", None, True
 
 

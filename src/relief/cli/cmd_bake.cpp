@@ -114,22 +114,11 @@ void runBake(const BakeOptions& o) {
     const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
     std::vector<double> seconds;
     for (size_t k = 0; k < infos.size(); ++k) {
-        TechniqueInput input{surface, orFail(resolveParams(*infos[k], overrides[k])), nullptr};
-        orFail(reserveMapMemory(*infos[k], *surface));
+        // Parameters the maps do not record are refused before anything is printed.
         const auto start = std::chrono::steady_clock::now();
-        file.techniques.push_back(orFail(infos[k]->buildMaps(input)));
+        file.techniques.push_back(orFail(bakeMaps(*infos[k], surface, overrides[k])));
         seconds.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        // A parameter the maps do not record cannot have changed them (the tracer reads it):
-        // accepting it would ignore it silently. Checked before anything is printed.
-        for (const auto& [name, value] : overrides[k])
-            if (!file.techniques.back().parameters.count(name))
-                throw CommandFailed{
-                    makeError(ErrorKind::BadArgument,
-                              "bake: {}: parameter '{}' does not "
-                              "change the maps (the tracer reads it: give it to render or "
-                              "trace)",
-                              infos[k]->name, name)};
     }
     // What the format cannot hold is refused before the report, like the parameters above.
     const std::vector<MapStorage> storages = storagesFor(infos, file, format, o.output);

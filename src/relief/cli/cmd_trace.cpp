@@ -22,25 +22,8 @@ void runTrace(const TraceOptions& o) {
     auto surface = orFail(makeSurface(o.surface, hf));
     auto tracer = orFail(makeTracer(o.technique, surface));
     std::vector<Ray> rays = orFail(readRays(o.rays, o.maxRays));
-    std::vector<float> tMax(rays.size());
-    // Far origins are brought to the box in double first (tmax with them); their hits get the
-    // distance back.
-    std::vector<double> offsets(rays.size());
-    for (size_t k = 0; k < rays.size(); ++k) {
-        tMax[k] = rays[k].tMax;
-        rays[k] = surface->nearBox(rays[k], offsets[k]);
-    }
     std::vector<Hit> hits(rays.size());
-    traceAll(*tracer, rays, hits);
-    for (size_t k = 0; k < hits.size(); ++k) {
-        if (!hits[k].hit) continue;
-        hits[k].t = float(double(hits[k].t) + offsets[k]);
-        // The tracers clip to tMax; a technique that overshoots it still reports a miss there.
-        if (hits[k].t > tMax[k]) {
-            hits[k].hit = false;
-            hits[k].t = kInfinity;
-        }
-    }
+    traceFromAnywhere(*tracer, *surface, rays, hits);
     orFail(writeHits(o.output, hits));
 }
 

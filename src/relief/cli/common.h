@@ -32,8 +32,7 @@ struct TechniqueOptions {
 // CLI::Range lets NaN through (every comparison with it is false) and CLI11 reads "inf"; options
 // that take a number check it with this: finite and in [lo, hi], the range in the message.
 CLI::Validator finiteRange(double lo, double hi);
-// Azimuths are taken in one turn either way; more threads than this is a typo, not a machine.
-inline constexpr double kMaxAzimuth = 360.0;
+// More threads than this is a typo, not a machine (kMaxAzimuth: render/camera.h).
 inline constexpr int kMaxThreads = 4096;
 
 // The surface options include --max-memory (addMemoryOption): every command that loads a map.
@@ -42,11 +41,8 @@ void addMemoryOption(CLI::App& app);
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
 void addThreadsOption(CLI::App& app, int& threads);
 
-// The orbit camera and the light, as render and view take them; the viewer narrows the ranges.
-struct CameraLimits {
-    float minDistance = 0.01f, maxDistance = 1000.0f;
-    float minFov = 1.0f, maxFov = 170.0f;
-};
+// The orbit camera and the light, as render and view take them; the viewer narrows the ranges
+// (CameraLimits: render/camera.h).
 void addCameraOptions(CLI::App& app, OrbitView& view, float& lightElevation, float& lightAzimuth,
                       const CameraLimits& limits = {});
 // The view part alone (--elevation, --azimuth, --distance, --fov): `relief rays`.

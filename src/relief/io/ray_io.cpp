@@ -36,29 +36,30 @@ bool isBlank(std::string_view line) {
     return line.find_first_not_of(" \t\r") == std::string_view::npos;
 }
 
-// The checks every ray passes, from CSV or .npy: ox,oy,oz,dx,dy,dz and (count 7) tmax.
-Result<Ray> makeRay(const double (&v)[7], int count, const std::string& where) {
+}  // namespace
+
+Result<Ray> checkedRay(const double (&v)[7], int count) {
     for (int k = 0; k < 6; ++k)
-        if (!std::isfinite(v[k]))
-            return makeError(ErrorKind::InvalidInput, "{}: non-finite value in ray", where);
+        if (!std::isfinite(v[k])) return makeError(ErrorKind::InvalidInput, "non-finite value in ray");
     for (int k = 0; k < 3; ++k)
         if (std::abs(v[k]) > kMaxRayOrigin)
             return makeError(ErrorKind::InvalidInput,
-                             "{}: origin coordinate {:g} is too far for float precision "
+                             "origin coordinate {:g} is too far for float precision "
                              "(at most {:g} texels from the origin)",
-                             where, v[k], kMaxRayOrigin);
+                             v[k], kMaxRayOrigin);
     const float tMax = count == 7 ? float(v[6]) : kInfinity;
     if (!(tMax >= 0.0f))
-        return makeError(ErrorKind::InvalidInput, "{}: tmax {} is not a number >= 0 (inf: none)",
-                         where, v[6]);
+        return makeError(ErrorKind::InvalidInput, "tmax {} is not a number >= 0 (inf: none)", v[6]);
     vec3 d{float(v[3]), float(v[4]), float(v[5])};
     const float length = glm::length(d);
     if (!(length > 0.0f) || !std::isfinite(length))
-        return makeError(ErrorKind::InvalidInput, "{}: zero or unusable direction", where);
+        return makeError(ErrorKind::InvalidInput, "zero or unusable direction");
     // A unit direction to float precision is kept as it is: renormalizing moves it by an ulp.
     if (std::abs(length - 1.0f) > 4.0f * FLT_EPSILON) d /= length;
     return Ray{vec3(float(v[0]), float(v[1]), float(v[2])), d, tMax};
 }
+
+namespace {
 
 // Rays one at a time, so that a limit stops the read where it is reached.
 class RayCollector {
@@ -66,8 +67,8 @@ class RayCollector {
     RayCollector(const std::string& what, size_t maxRays) : m_what(what), m_maxRays(maxRays) {}
 
     Status add(const double (&v)[7], int count, const std::string& where) {
-        auto ray = makeRay(v, count, where);
-        if (!ray) return ray.error();
+        auto ray = checkedRay(v, count);
+        if (!ray) return makeError(ray.error().kind, "{}: {}", where, ray.error().message);
         if (m_rays.size() >= m_maxRays)
             return makeError(ErrorKind::InvalidInput, "{}: more than {} rays (--max-rays)", where,
                              m_maxRays);

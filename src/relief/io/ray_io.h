@@ -33,6 +33,12 @@ inline const NpyField kHitFields[] = {{"hit", "|b1"},    {"t", "<f4"}, {"x", "<f
                                       {"y", "<f4"},      {"z", "<f4"}, {"steps", "<i4"},
                                       {"fetches", "<i4"}};
 
+// The checks every ray source applies (ray files, the Python module's arrays) to
+// ox,oy,oz,dx,dy,dz and, with count 7, tmax: finite numbers, the origin within kMaxRayOrigin, a
+// usable direction (normalized unless already of unit length), tmax >= 0. The message names no
+// location: the caller prefixes its own (file and line, array row).
+Result<Ray> checkedRay(const double (&values)[7], int count);
+
 // True when `path` names a .npy file (by its extension, in any case).
 bool isNpyPath(const std::string& path);
 

@@ -26,6 +26,24 @@ Camera::Camera(const OrbitView& view, const Surface& surface, int width, int hei
     m_halfWidth = m_halfHeight * float(width) / float(height);
 }
 
+Status checkOrbitView(const OrbitView& view, int width, int height, const CameraLimits& limits) {
+    const struct {
+        const char* name;
+        double value, lo, hi;
+    } checks[] = {{"elevation", view.elevationDeg, -90.0, 90.0},
+                  {"azimuth", view.azimuthDeg, -kMaxAzimuth, kMaxAzimuth},
+                  {"distance", view.distance, limits.minDistance, limits.maxDistance},
+                  {"fov", view.fovDeg, limits.minFov, limits.maxFov},
+                  {"width", double(width), 1.0, 16384.0},
+                  {"height", double(height), 1.0, 16384.0}};
+    for (const auto& c : checks)
+        if (!(c.value >= c.lo && c.value <= c.hi))  // NaN fails too
+            return makeError(ErrorKind::BadArgument,
+                             "{} {:g} is not a finite number from {:g} to {:g}", c.name, c.value,
+                             c.lo, c.hi);
+    return {};
+}
+
 std::vector<Ray> primaryRays(const Camera& camera) {
     std::vector<Ray> rays;
     rays.reserve(size_t(camera.width()) * size_t(camera.height()));

@@ -1,6 +1,7 @@
 #pragma once
 // The orbit camera of DESIGN §4: looks at the centre of the relief's box from an elevation angle
 // above the base plane and an azimuth, at a distance measured in box diagonals.
+#include <relief/core/error.h>
 #include <relief/core/math.h>
 #include <relief/surface/surface.h>
 
@@ -14,6 +15,18 @@ struct OrbitView {
     float distance = 1.2f;  // in units of the box diagonal
     float fovDeg = 45.0f;   // vertical field of view
 };
+
+// The ranges the CLI's camera options and the Python module's views accept; azimuths are taken
+// in one turn either way. The viewer narrows them.
+inline constexpr double kMaxAzimuth = 360.0;
+struct CameraLimits {
+    float minDistance = 0.01f, maxDistance = 1000.0f;
+    float minFov = 1.0f, maxFov = 170.0f;
+};
+// BadArgument naming the first value out of its range (angles, distance, fov; image size 1 to
+// 16384 each way), for callers that do not parse options (the Python module).
+Status checkOrbitView(const OrbitView& view, int width, int height,
+                      const CameraLimits& limits = {});
 
 // DESIGN §4 standard sets.
 inline constexpr float kStandardElevations[] = {2.9f, 15.3f, 27.8f, 40.2f, 52.7f, 65.1f, 77.6f, 90.0f};

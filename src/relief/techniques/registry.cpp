@@ -499,6 +499,33 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
     return input;
 }
 
+Result<TechniqueMaps> bakeMaps(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+                               const std::vector<std::pair<std::string, double>>& overrides) {
+    if (!info.buildMaps) {
+        std::string known;
+        for (const TechniqueInfo& row : techniques())
+            if (row.buildMaps) known += (known.empty() ? "" : ", ") + std::string(row.name);
+        return makeError(ErrorKind::BadArgument,
+                         "bake: '{}' has no maps to bake (techniques with maps: {})", info.name,
+                         known.empty() ? "none yet" : known);
+    }
+    auto params = resolveParams(info, overrides);
+    if (!params) return params.error();
+    TechniqueInput input{std::move(surface), std::move(*params), nullptr};
+    if (Status s = reserveMapMemory(info, *input.surface); !s) return s.error();
+    auto maps = info.buildMaps(input);
+    if (!maps) return maps.error();
+    // A parameter the maps do not record cannot have changed them (the tracer reads it):
+    // accepting it would ignore it silently.
+    for (const auto& [name, value] : overrides)
+        if (!maps->parameters.count(name))
+            return makeError(ErrorKind::BadArgument,
+                             "bake: {}: parameter '{}' does not change the maps (the tracer reads "
+                             "it: give it to render or trace)",
+                             info.name, name);
+    return maps;
+}
+
 Result<std::unique_ptr<Tracer>> createTracer(
     std::string_view name, std::shared_ptr<const Surface> surface,
     const std::vector<std::pair<std::string, double>>& overrides, const MapFile* maps,

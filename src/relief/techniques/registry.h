@@ -35,6 +35,12 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
                                       const MapFile* maps = nullptr,
                                       std::string_view mapsPath = {});
 
+// One row's maps as `relief bake` writes them: parameters resolved, the memory budget checked,
+// the maps built. A row without maps, and a parameter the maps do not record (the tracer reads
+// it), are refused.
+Result<TechniqueMaps> bakeMaps(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
+                               const std::vector<std::pair<std::string, double>>& overrides);
+
 // The one way to a CPU tracer (CLI, viewer, bench, tests): looks the technique up, resolves its
 // parameters and creates its tracer (the map file, if any, must outlive it).
 Result<std::unique_ptr<Tracer>> createTracer(

@@ -28,6 +28,23 @@ void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hi
     });
 }
 
+void traceFromAnywhere(const Tracer& tracer, const Surface& surface, std::span<Ray> rays,
+                       std::span<Hit> hits) {
+    RELIEF_CHECK(rays.size() == hits.size());
+    std::vector<double> offsets(rays.size());
+    for (size_t k = 0; k < rays.size(); ++k) rays[k] = surface.nearBox(rays[k], offsets[k]);
+    traceAll(tracer, rays, hits);
+    for (size_t k = 0; k < hits.size(); ++k) {
+        if (!hits[k].hit) continue;
+        if (hits[k].t > rays[k].tMax) {
+            hits[k].hit = false;
+            hits[k].t = kInfinity;
+            continue;
+        }
+        hits[k].t = float(double(hits[k].t) + offsets[k]);
+    }
+}
+
 double ParamValues::get(std::string_view name) const {
     auto it = m_values.find(name);
     RELIEF_CHECK(it != m_values.end());

@@ -151,6 +151,11 @@ public:
 
 // Traces all rays: one batch if the tracer prefers it, else 256-ray batches in parallel.
 void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hits);
+// traceAll for rays from anywhere (`relief trace`, the Python module): far origins are brought to
+// the box first, in place (Surface::nearBox, in double), and their hits get the distance back; a
+// hit beyond its ray's tMax (a tracer that overshoots it) is reported as a miss.
+void traceFromAnywhere(const Tracer& tracer, const Surface& surface, std::span<Ray> rays,
+                       std::span<Hit> hits);
 
 // Adapts a technique's concrete tracer (anything with `Hit trace(const Ray&) const`).
 template <class Impl>
