@@ -37,6 +37,9 @@ void addHelpCommand(CLI::App& app) {
                 std::cout << fmt::format("  {:<18}   variant {} ({}): {}, {}{}\n", "", v.label,
                                          v.params, toString(v.contract), v.summary,
                                          v.clampOnly ? " (clamp mode only)" : "");
+            if (!info.shaderFunction.empty())
+                std::cout << fmt::format("  {:<18}   shader function {} (shaders/relief/{})\n", "",
+                                         info.shaderFunction, info.shaderFile);
         }
         std::cout << "\nA variant is its own row in relief bench: -t NAME:PARAM=V[:PARAM=V].\n"
                      "An exact row with its iteration cap set (N > 0 where 0 means none) is "

@@ -63,6 +63,10 @@ Status checkMaps(const TechniqueInput& input) {
     return loaded ? Status() : Status(loaded.error());
 }
 
+// The samplers of the rows' shader-library functions (shaders/relief/).
+constexpr ShaderSampler kHeightsSampler[] = {{"heights", ""}};
+constexpr ShaderSampler kConeSamplers[] = {{"heights", ""}, {"cones", "cones"}};
+
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
 constexpr PathCase kConePathCases[] = {{"bits=16,sqrt=1"}, {"bits=8,variant=1"}};
@@ -254,11 +258,13 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "linear", .paper = "Policarpo, Oliveira & Comba 2005 (relief mapping)",
      .summary = "N linear steps then M binary refinement steps on bilinear fetches",
      .contract = Contract::Approximate, .params = kLinearParams, .create = createLinear,
-     .glsl = "linear/linear.glsl"},
+     .glsl = "linear/linear.glsl", .shaderFile = "linear.glsl", .shaderFunction = "reliefLinear",
+     .shaderSamplers = kHeightsSampler},
     {.name = "parallax", .paper = "Kaneko et al. 2001; Welsh 2004 (offset limiting)",
      .summary = "one height fetch, offset-limited parallax shift",
      .contract = Contract::Approximate, .params = {}, .create = createParallax,
-     .glsl = "parallax/parallax.glsl"},
+     .glsl = "parallax/parallax.glsl", .shaderFile = "parallax.glsl",
+     .shaderFunction = "reliefParallax", .shaderSamplers = kHeightsSampler},
     {.name = "quadtree", .paper = "Schroders & van Gulik 2006 (quadtree relief mapping)",
      .summary = "max quadtree, jump to the neighbour node, exact cell test at the leaves",
      .contract = Contract::Exact, .params = kQuadtreeParams, .create = createQuadtree,
@@ -282,13 +288,16 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,
      .buildMaps = buildConeMaps, .mapBytesPerTexel = 24, .check = checkCone, .glsl = "cone/cone.glsl",
      .glslConstants = kConeGlslConstants, .variants = kConeVariants, .pathCases = kConePathCases,
-     .studies = kConeStudies},
+     .studies = kConeStudies, .shaderFile = "cone.glsl", .shaderFunction = "reliefCone",
+     .shaderSamplers = kConeSamplers},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
      .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .mapBytesPerTexel = 24, .check = checkRelaxedCone,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
-     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases},
+     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases,
+     .shaderFile = "relaxed_cone.glsl", .shaderFunction = "reliefRelaxedCone",
+     .shaderSamplers = kConeSamplers},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,

@@ -107,6 +107,14 @@ enum class ImageMethod : uint8_t {
 
 class SphereSurface;  // sphere/sphere_surface.h
 
+// A sampler of a row's engine shader-library function (shaders/relief/, docs/engine.md), in
+// parameter order: its name there and the map array it holds, one texture per array with the
+// array's floats ("" = the heightfield itself, h in [0, 1]).
+struct ShaderSampler {
+    std::string_view name;
+    std::string_view array;
+};
+
 // Parameter values by name, complete (defaults filled in) once validated by the registry.
 class ParamValues {
 public:
@@ -204,6 +212,13 @@ struct TechniqueInfo {
     // Named statistics of its built maps (snake_case name, value), extra columns of the bench's
     // map-build tables (e.g. the mean safety distance); null: none.
     std::vector<std::pair<std::string, double>> (*mapSummary)(const TechniqueMaps& maps) = nullptr;
+    // Its function in the engine shader library: the file in shaders/relief/ (after common.glsl),
+    // the function (`ReliefHit F(samplers, uv, viewDirTangent, params)`; its shadow query is
+    // `float FShadow(samplers, hit, lightDirTangent, params)`) and the samplers both take, in
+    // order. Empty: none.
+    std::string_view shaderFile = {};
+    std::string_view shaderFunction = {};
+    std::span<const ShaderSampler> shaderSamplers = {};
 };
 
 // The parameter of `info` with this role (the first), or null.
