@@ -35,7 +35,7 @@ std::string testName(std::string_view text) {
 }
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
-    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone"}) {
+    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree"}) {
         const TechniqueInfo* info = findTechnique(name);
         ASSERT_TRUE(info) << name;
         EXPECT_FALSE(info->shaderFunction.empty()) << name;
@@ -48,8 +48,12 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
     const TechniqueInfo& info = *GetParam();
     const std::string text = testing::readFile(kLibrary / info.shaderFile);
     ASSERT_FALSE(text.empty()) << kLibrary / info.shaderFile;
-    const std::string common = testing::readFile(kLibrary / "common.glsl");
-    ASSERT_FALSE(common.empty());
+    // Everything it includes: common.glsl and the files on its `// requires:` lines.
+    std::string included = testing::readFile(kLibrary / "common.glsl");
+    ASSERT_FALSE(included.empty());
+    const std::regex requireLine("^// requires: (\\S+)$", std::regex::multiline);
+    for (std::sregex_iterator it(text.begin(), text.end(), requireLine), end; it != end; ++it)
+        included += testing::readFile(kLibrary / (*it)[1].str());
     ASSERT_FALSE(info.shaderSamplers.empty()) << info.name;
     // The signatures of docs/engine.md, line breaks anywhere between parameters.
     std::string samplers;
@@ -87,7 +91,7 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
         std::smatch m;
         const std::regex declaration("const (float|int) " + std::string(c.name) + " = ([-0-9.e]+);");
         const bool found = std::regex_search(text, m, declaration) ||
-                           std::regex_search(common, m, declaration);
+                           std::regex_search(included, m, declaration);
         ASSERT_TRUE(found) << info.name << ": the library does not declare " << c.name;
         EXPECT_EQ(m[1].str() == "int", c.integer) << c.name;
         EXPECT_EQ(float(std::stod(m[2].str())), float(c.value)) << c.name;

@@ -34,11 +34,12 @@ struct ReliefParams {
     int bits;         // cone maps: 32 = float values, 16 / 8 = codes (the map's "bits")
     int sqrtRatio;    // cone maps: 1 when codes hold sqrt(c / cMax) (the map's "sqrt")
     float coneMax;    // cone maps: cMax (the map's "cone-max")
+    int ascend;       // quadtree: 1 = up one level on entering a new parent (relief's default)
 };
 
 // relief's defaults for a W×H map baked at depth D (texels), clamp mode, mesh at the top.
 ReliefParams reliefParams(vec2 mapSize, float depth) {
-    return ReliefParams(mapSize, depth, 1.0, kReliefClamp, 64, 8, 32, 0, 1.0);
+    return ReliefParams(mapSize, depth, 1.0, kReliefClamp, 64, 8, 32, 0, 1.0, 1);
 }
 
 // Where the view ray meets the relief.

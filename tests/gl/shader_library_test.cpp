@@ -26,6 +26,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -49,10 +51,30 @@ std::string readLibrary(std::string_view file) {
     return s.str();
 }
 
+// common.glsl, then `file` after the files its `// requires:` lines name, each once.
+std::string libraryText(std::string_view file) {
+    std::vector<std::string> ordered;
+    auto add = [&](auto&& self, const std::string& name) -> void {
+        if (std::find(ordered.begin(), ordered.end(), name) != ordered.end()) return;
+        const std::string text = readLibrary(name);
+        for (size_t at = text.find("\n// requires: "); at != std::string::npos;
+             at = text.find("\n// requires: ", at + 1)) {
+            const size_t begin = at + 14;
+            self(self, text.substr(begin, text.find('\n', begin) - begin));
+        }
+        ordered.push_back(name);
+    };
+    add(add, "common.glsl");
+    add(add, std::string(file));
+    std::string all;
+    for (const std::string& name : ordered) all += readLibrary(name) + "\n";
+    return all;
+}
+
 // The library's parameters for a row (its resolved parameters and the maps' own).
 struct LibraryParams {
     float midLevel = 1.0f;
-    int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0;
+    int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
     float coneMax = 1.0f;
 };
 
@@ -118,7 +140,6 @@ std::string fragmentShader(const TechniqueInfo& info) {
     }
     return fmt::format(R"(#version 330 core
 {}
-{}
 {}uniform ReliefParams params;
 uniform vec3 eye, quadU, quadV, lightTangent;
 in vec2 vUv;
@@ -142,8 +163,31 @@ void main() {{
     outHitUv = vec4(hit.uv, hit.depth, 0.0);
 }}
 )",
-                       readLibrary("common.glsl"), readLibrary(info.shaderFile), samplers,
+                       libraryText(info.shaderFile), samplers,
                        info.shaderFunction, arguments, info.shaderFunction, arguments);
+}
+
+// A max pyramid's levels "<stem>0", "<stem>1", ... as the mip levels of one R32F texture, level
+// 0 padded to powers of two so that every GL mip level holds its pyramid level.
+GlTexture mipChainTexture(const TechniqueMaps& maps, std::string_view first) {
+    const std::string stem(first.substr(0, first.size() - 1));
+    std::vector<const MapArray*> levels;
+    for (const MapArray* a; (a = maps.find(stem + std::to_string(levels.size())));) levels.push_back(a);
+    EXPECT_FALSE(levels.empty()) << first;
+    if (levels.empty()) return GlTexture();
+    auto padded = [](int n) { return 1 << std::bit_width(unsigned(n - 1)); };
+    GLuint id = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &id);
+    glTextureStorage2D(id, GLsizei(levels.size()), GL_R32F, padded(levels[0]->width),
+                       padded(levels[0]->height));
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (size_t l = 0; l < levels.size(); ++l)
+        glTextureSubImage2D(id, GLint(l), 0, 0, levels[l]->width, levels[l]->height, GL_RED,
+                            GL_FLOAT, levels[l]->data.data());
+    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, GLint(levels.size()) - 1);
+    return GlTexture(id);
 }
 
 GlTexture floatTexture(int width, int height, int channels, const float* data) {
@@ -181,6 +225,8 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     for (const ShaderSampler& s : info.shaderSamplers) {
         if (s.array.empty()) {
             textures.push_back(floatTexture(hf.width, hf.height, 1, hf.samples.data()));
+        } else if (s.mipChain) {
+            textures.push_back(mipChainTexture(maps, s.array));
         } else {
             const MapArray* a = maps.find(std::string(s.array));
             EXPECT_TRUE(a) << s.array;
@@ -230,6 +276,7 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform1i(uniform("params.bits"), lp.bits);
     glUniform1i(uniform("params.sqrtRatio"), lp.sqrtRatio);
     glUniform1f(uniform("params.coneMax"), lp.coneMax);
+    glUniform1i(uniform("params.ascend"), lp.ascend);
     for (size_t k = 0; k < textures.size(); ++k) {
         glBindTextureUnit(GLuint(k), textures[k].id());
         glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
@@ -287,6 +334,7 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     LibraryParams lp;
     if (const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap)) lp.maxSteps = params->getInt(cap->name);
     if (params->has("binary-steps")) lp.binarySteps = params->getInt("binary-steps");
+    if (params->has("ascend")) lp.ascend = params->getInt("ascend");
     auto mapParam = [&](const char* key, double fallback) {
         auto found = maps.parameters.find(key);
         return found == maps.parameters.end() ? fallback : std::stod(found->second);

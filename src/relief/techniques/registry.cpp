@@ -66,6 +66,7 @@ Status checkMaps(const TechniqueInput& input) {
 // The samplers of the rows' shader-library functions (shaders/relief/).
 constexpr ShaderSampler kHeightsSampler[] = {{"heights", ""}};
 constexpr ShaderSampler kConeSamplers[] = {{"heights", ""}, {"cones", "cones"}};
+constexpr ShaderSampler kPyramidSamplers[] = {{"heights", ""}, {"pyramid", "level0", true}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
@@ -271,12 +272,15 @@ static const TechniqueInfo kTechniques[] = {
      .buildMaps = buildQuadtreeMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "quadtree/quadtree.glsl", .glslConstants = kPyramidWalkGlslConstants,
      .variants = kQuadtreeVariants, .pathCases = kQuadtreePathCases,
-     .studies = kQuadtreeStudies},
+     .studies = kQuadtreeStudies, .shaderFile = "quadtree.glsl", .shaderFunction = "reliefQuadtree",
+     .shaderSamplers = kPyramidSamplers},
     {.name = "maxmip", .paper = "Tevs, Ihrke & Seidel 2008 (maximum mipmaps)",
      .summary = "max pyramid walked like a ray tracer (up to the common ancestor)",
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
      .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
-     .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants},
+     .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants,
+     .shaderFile = "maxmip.glsl", .shaderFunction = "reliefMaxmip",
+     .shaderSamplers = kPyramidSamplers},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",
      .summary = "quadtree whose nodes carry a plane lying on S, flat max as pre-test",
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
