@@ -98,26 +98,37 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
     }
 }
 
+// Runs check_shader_library.py with `arguments`; its output on failure.
+void expectCompiles(const std::string& label, const std::string& arguments) {
+    const std::filesystem::path tmp = std::filesystem::path(::testing::TempDir()) /
+                                      ("relief-shader-library-" + testName(label));
+    std::filesystem::create_directories(tmp);
+    const std::filesystem::path log = tmp / "log.txt";
+    const std::string command =
+        fmt::format("/usr/bin/python3 {}/tests/shaders/check_shader_library.py --library {} {} "
+                    "--out {} >{} 2>&1",
+                    RELIEF_SOURCE_DIR, kLibrary.string(), arguments, tmp.string(), log.string());
+    const int status = std::system(command.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << label << ":\n" << testing::readFile(log);
+    std::filesystem::remove_all(tmp);
+}
+
 TEST_P(ShaderLibrary, CompilesForEveryTarget) {
     const TechniqueInfo& info = *GetParam();
-    const std::filesystem::path tmp = std::filesystem::path(::testing::TempDir()) /
-                                      ("relief-shader-library-" + testName(info.name));
-    std::filesystem::create_directories(tmp);
     std::string samplers;
     for (const ShaderSampler& s : info.shaderSamplers)
         samplers += (samplers.empty() ? "" : ",") + std::string(s.name);
-    for (const char* target : {"330", "300es", "vulkan"}) {
-        const std::filesystem::path log = tmp / (std::string(target) + ".log");
-        const std::string command = fmt::format(
-            "/usr/bin/python3 {}/tests/shaders/check_shader_library.py --library {} --file {} "
-            "--function {} --samplers {} --target {} --out {} >{} 2>&1",
-            RELIEF_SOURCE_DIR, kLibrary.string(), info.shaderFile, info.shaderFunction, samplers,
-            target, tmp.string(), log.string());
-        const int status = std::system(command.c_str());
-        EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-            << info.name << " for " << target << ":\n" << testing::readFile(log);
-    }
-    std::filesystem::remove_all(tmp);
+    for (const char* target : {"330", "300es", "vulkan"})
+        expectCompiles(fmt::format("{} {}", info.name, target),
+                       fmt::format("--file {} --function {} --samplers {} --target {}",
+                                   info.shaderFile, info.shaderFunction, samplers, target));
+}
+
+// docs/engine.md's minimal GLSL ES 3.00 shader, with the library pasted where it says.
+TEST(ShaderLibraryDoc, EngineExampleCompilesAsEs300) {
+    expectCompiles("engine.md example",
+                   fmt::format("--example {}/docs/engine.md --target 300es", RELIEF_SOURCE_DIR));
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, ShaderLibrary, ::testing::ValuesIn(shaderRows()),

@@ -5,8 +5,10 @@ Writes a small fragment shader that includes common.glsl and the technique's fil
 they name on `// requires:` lines) and calls the function and its shadow query, then checks it
 with glslangValidator: GLSL 3.30 core and GLSL ES 3.00 as they are, Vulkan GLSL 4.50 to SPIR-V,
 from which spirv-cross must produce HLSL (shader model 5.0) that contains the function.
-Called per registry row by tests/shader_library_test.cpp; exit 0 when it compiles, 1 otherwise
-(the tools' output on stderr).
+With --example DOC instead: the first ```glsl block of DOC that has a #version line, its
+`// relief: a.glsl, b.glsl (...)` line replaced by those library files (docs/engine.md's shader).
+Called by tests/shader_library_test.cpp; exit 0 when it compiles, 1 otherwise (the tools' output
+on stderr).
 """
 import argparse
 import pathlib
@@ -63,6 +65,19 @@ def wrapper(target: str, library: str, function: str, samplers: list) -> str:
     return "\n".join(lines) + "\n"
 
 
+def example_text(library: pathlib.Path, doc: pathlib.Path) -> str:
+    for block in re.findall(r"```glsl\n(.*?)```", doc.read_text(), re.S):
+        if not block.startswith("#version"):
+            continue
+        marker = re.search(r"^// relief: (.*?)(?: \(.*\))?$", block, re.M)
+        if not marker:
+            raise SystemExit(f"{doc}: the example has no '// relief: FILES' line")
+        # common.glsl and the last file's requires come with it.
+        last = marker.group(1).split(",")[-1].strip()
+        return block[:marker.start()] + library_text(library, last) + block[marker.end():]
+    raise SystemExit(f"{doc}: no ```glsl block with a #version line")
+
+
 def run(command: list) -> bool:
     result = subprocess.run(command, capture_output=True, text=True)
     if result.returncode != 0:
@@ -74,14 +89,21 @@ def run(command: list) -> bool:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--library", required=True, type=pathlib.Path, help="shaders/relief")
-    parser.add_argument("--file", required=True, help="technique file, e.g. cone.glsl")
-    parser.add_argument("--function", required=True, help="e.g. reliefCone")
-    parser.add_argument("--samplers", required=True, help="sampler names in order, comma-separated")
+    parser.add_argument("--file", help="technique file, e.g. cone.glsl")
+    parser.add_argument("--function", help="e.g. reliefCone")
+    parser.add_argument("--samplers", help="sampler names in order, comma-separated")
+    parser.add_argument("--example", type=pathlib.Path, help="a doc whose example shader to compile")
     parser.add_argument("--target", required=True, choices=TARGETS)
     parser.add_argument("--out", required=True, type=pathlib.Path, help="a folder for the files")
     args = parser.parse_args()
 
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.example:
+        source = args.out / "example.frag"
+        source.write_text(example_text(args.library, args.example))
+        return 0 if run(["glslangValidator", "-S", "frag", str(source)]) else 1
+    if not (args.file and args.function and args.samplers):
+        parser.error("--file, --function and --samplers are required without --example")
     stem = args.out / f"{args.function}-{args.target}"
     source = stem.with_suffix(".frag")
     source.write_text(wrapper(args.target, library_text(args.library, args.file), args.function,
