@@ -35,7 +35,8 @@ std::string testName(std::string_view text) {
 }
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
-    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree"}) {
+    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree",
+                                  "qdm"}) {
         const TechniqueInfo* info = findTechnique(name);
         ASSERT_TRUE(info) << name;
         EXPECT_FALSE(info->shaderFunction.empty()) << name;

@@ -35,11 +35,13 @@ struct ReliefParams {
     int sqrtRatio;    // cone maps: 1 when codes hold sqrt(c / cMax) (the map's "sqrt")
     float coneMax;    // cone maps: cMax (the map's "cone-max")
     int ascend;       // quadtree: 1 = up one level on entering a new parent (relief's default)
+    float maxZ;       // qdm: D × the highest height of the map (Surface::maxZ)
+    float maxDistance;  // qdm: the map's "max-distance" (0 = unlimited)
 };
 
 // relief's defaults for a W×H map baked at depth D (texels), clamp mode, mesh at the top.
 ReliefParams reliefParams(vec2 mapSize, float depth) {
-    return ReliefParams(mapSize, depth, 1.0, kReliefClamp, 64, 8, 32, 0, 1.0, 1);
+    return ReliefParams(mapSize, depth, 1.0, kReliefClamp, 64, 8, 32, 0, 1.0, 1, depth, 0.0);
 }
 
 // Where the view ray meets the relief.

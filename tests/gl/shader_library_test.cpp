@@ -75,7 +75,7 @@ std::string libraryText(std::string_view file) {
 struct LibraryParams {
     float midLevel = 1.0f;
     int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
-    float coneMax = 1.0f;
+    float coneMax = 1.0f, maxDistance = 0.0f;
 };
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
@@ -277,6 +277,8 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform1i(uniform("params.sqrtRatio"), lp.sqrtRatio);
     glUniform1f(uniform("params.coneMax"), lp.coneMax);
     glUniform1i(uniform("params.ascend"), lp.ascend);
+    glUniform1f(uniform("params.maxZ"), surface.maxZ());
+    glUniform1f(uniform("params.maxDistance"), lp.maxDistance);
     for (size_t k = 0; k < textures.size(); ++k) {
         glBindTextureUnit(GLuint(k), textures[k].id());
         glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
@@ -342,6 +344,7 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     lp.bits = int(mapParam("bits", 32));
     lp.sqrtRatio = int(mapParam("sqrt", 0));
     lp.coneMax = float(mapParam("cone-max", 1.0));
+    lp.maxDistance = float(mapParam("max-distance", 0.0));
 
     auto cpu = createTracer(info.name, surface, overrides, file.techniques.empty() ? nullptr : &file);
     ASSERT_TRUE(cpu) << cpu.error().message;

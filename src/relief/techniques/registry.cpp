@@ -67,6 +67,7 @@ Status checkMaps(const TechniqueInput& input) {
 constexpr ShaderSampler kHeightsSampler[] = {{"heights", ""}};
 constexpr ShaderSampler kConeSamplers[] = {{"heights", ""}, {"cones", "cones"}};
 constexpr ShaderSampler kPyramidSamplers[] = {{"heights", ""}, {"pyramid", "level0", true}};
+constexpr ShaderSampler kQdmSamplers[] = {{"heights", ""}, {"qdm", "qdm"}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
@@ -307,7 +308,8 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
      .buildMaps = buildQdmMaps, .mapBytesPerTexel = 40, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
      .pathCases = kQdmPathCases,
-     .studies = kQdmStudies},
+     .studies = kQdmStudies, .shaderFile = "qdm.glsl", .shaderFunction = "reliefQdm",
+     .shaderSamplers = kQdmSamplers},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
