@@ -8,6 +8,7 @@
 #include <relief/techniques/registry.h>
 
 #include <support/cli_case.h>
+#include <support/shader_rows.h>
 
 #include <gtest/gtest.h>
 
@@ -20,19 +21,6 @@ namespace relief {
 namespace {
 
 const std::filesystem::path kLibrary = std::filesystem::path(RELIEF_SOURCE_DIR) / "shaders/relief";
-
-std::vector<const TechniqueInfo*> shaderRows() {
-    std::vector<const TechniqueInfo*> rows;
-    for (const TechniqueInfo& info : techniques())
-        if (!info.shaderFunction.empty()) rows.push_back(&info);
-    return rows;
-}
-
-std::string testName(std::string_view text) {
-    std::string name;
-    for (char c : text) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-    return name;
-}
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
     for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree",
@@ -102,7 +90,7 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
 // Runs check_shader_library.py with `arguments`; its output on failure.
 void expectCompiles(const std::string& label, const std::string& arguments) {
     const std::filesystem::path tmp = std::filesystem::path(::testing::TempDir()) /
-                                      ("relief-shader-library-" + testName(label));
+                                      ("relief-shader-library-" + testing::identifierFrom(label));
     std::filesystem::create_directories(tmp);
     const std::filesystem::path log = tmp / "log.txt";
     const std::string command =
@@ -132,10 +120,8 @@ TEST(ShaderLibraryDoc, EngineExampleCompilesAsEs300) {
                    fmt::format("--example {}/docs/engine.md --target 300es", RELIEF_SOURCE_DIR));
 }
 
-INSTANTIATE_TEST_SUITE_P(Registry, ShaderLibrary, ::testing::ValuesIn(shaderRows()),
-                         [](const ::testing::TestParamInfo<const TechniqueInfo*>& p) {
-                             return testName(p.param->name);
-                         });
+INSTANTIATE_TEST_SUITE_P(Registry, ShaderLibrary, ::testing::ValuesIn(testing::shaderLibraryRows()),
+                         testing::rowTestName);
 
 }  // namespace
 }  // namespace relief

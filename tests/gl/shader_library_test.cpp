@@ -19,6 +19,7 @@
 // - approximate: the error against the CPU tracer and the reference is printed; bounded loosely
 //   (hit rates within 1%, mean |Δt| against the CPU tracer <= 0.05 texel).
 #include <support/gl_test_support.h>
+#include <support/shader_rows.h>
 
 #include <relief/gl/egl_context.h>
 #include <relief/gl/program.h>
@@ -489,20 +490,8 @@ TEST_P(ShaderLibraryVsCpu, SameHitsOnQuads) {
     }
 }
 
-std::vector<const TechniqueInfo*> shaderRows() {
-    std::vector<const TechniqueInfo*> rows;
-    for (const TechniqueInfo& info : techniques())
-        if (!info.shaderFunction.empty()) rows.push_back(&info);
-    return rows;
-}
-
-INSTANTIATE_TEST_SUITE_P(Registry, ShaderLibraryVsCpu, ::testing::ValuesIn(shaderRows()),
-                         [](const ::testing::TestParamInfo<const TechniqueInfo*>& p) {
-                             std::string name;
-                             for (char c : p.param->name)
-                                 name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
-                             return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(Registry, ShaderLibraryVsCpu,
+                         ::testing::ValuesIn(testing::shaderLibraryRows()), testing::rowTestName);
 
 }  // namespace
 }  // namespace relief
