@@ -24,7 +24,7 @@ const std::filesystem::path kLibrary = std::filesystem::path(RELIEF_SOURCE_DIR) 
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
     for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree",
-                                  "qdm"}) {
+                                  "qdm", "safety-cc"}) {
         const TechniqueInfo* info = findTechnique(name);
         ASSERT_TRUE(info) << name;
         EXPECT_FALSE(info->shaderFunction.empty()) << name;
@@ -72,6 +72,7 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
     for (const ShaderSampler& s : info.shaderSamplers) {
         if (s.array.empty()) continue;
         const MapArray* array = maps.find(std::string(s.array));
+        if (!array && !s.fallback.empty()) array = maps.find(std::string(s.fallback));
         ASSERT_TRUE(array) << info.name << ": sampler " << s.name << " names no baked array "
                            << s.array;
         EXPECT_LE(array->channels, 4) << s.array;

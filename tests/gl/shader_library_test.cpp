@@ -76,7 +76,8 @@ std::string libraryText(std::string_view file) {
 struct LibraryParams {
     float midLevel = 1.0f;
     int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
-    float coneMax = 1.0f, maxDistance = 0.0f;
+    float coneMax = 1.0f, maxDistance = 0.0f, phiMax = 90.0f;
+    int exterior = 0, viewDependent = 0, positiveDistance = 0;
 };
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
@@ -230,6 +231,7 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
             textures.push_back(mipChainTexture(maps, s.array));
         } else {
             const MapArray* a = maps.find(std::string(s.array));
+            if (!a && !s.fallback.empty()) a = maps.find(std::string(s.fallback));
             EXPECT_TRUE(a) << s.array;
             if (!a) return {};
             textures.push_back(floatTexture(a->width, a->height, a->channels, a->data.data()));
@@ -280,6 +282,10 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform1i(uniform("params.ascend"), lp.ascend);
     glUniform1f(uniform("params.maxZ"), surface.maxZ());
     glUniform1f(uniform("params.maxDistance"), lp.maxDistance);
+    glUniform1f(uniform("params.phiMax"), lp.phiMax);
+    glUniform1i(uniform("params.exterior"), lp.exterior);
+    glUniform1i(uniform("params.viewDependent"), lp.viewDependent);
+    glUniform1i(uniform("params.positiveDistance"), lp.positiveDistance);
     for (size_t k = 0; k < textures.size(); ++k) {
         glBindTextureUnit(GLuint(k), textures[k].id());
         glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
@@ -345,7 +351,11 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     lp.bits = int(mapParam("bits", 32));
     lp.sqrtRatio = int(mapParam("sqrt", 0));
     lp.coneMax = float(mapParam("cone-max", 1.0));
-    lp.maxDistance = float(mapParam("max-distance", 0.0));
+    lp.maxDistance = info.name == "qdm" ? float(mapParam("max-distance", 0.0)) : 0.0f;
+    lp.phiMax = float(mapParam("phi-max", 90.0));
+    lp.exterior = int(mapParam("exterior", 0));
+    if (params->has("view-dependent")) lp.viewDependent = params->getInt("view-dependent");
+    if (params->has("positive-distance")) lp.positiveDistance = params->getInt("positive-distance");
 
     auto cpu = createTracer(info.name, surface, overrides, file.techniques.empty() ? nullptr : &file);
     ASSERT_TRUE(cpu) << cpu.error().message;

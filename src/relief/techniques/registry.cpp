@@ -68,6 +68,11 @@ constexpr ShaderSampler kHeightsSampler[] = {{"heights", ""}};
 constexpr ShaderSampler kConeSamplers[] = {{"heights", ""}, {"cones", "cones"}};
 constexpr ShaderSampler kPyramidSamplers[] = {{"heights", ""}, {"pyramid", "level0", true}};
 constexpr ShaderSampler kQdmSamplers[] = {{"heights", ""}, {"qdm", "qdm"}};
+constexpr ShaderSampler kSafetyCcSamplers[] = {{"heights", ""},
+                                               {"ccxPlus", "ccx+", false, "cc"},
+                                               {"ccxMinus", "ccx-", false, "cc"},
+                                               {"ccyPlus", "ccy+", false, "cc"},
+                                               {"ccyMinus", "ccy-", false, "cc"}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
@@ -324,7 +329,8 @@ static const TechniqueInfo kTechniques[] = {
      .viewWarning = safety::viewWarning,
      .glsl = "safety_cc/safety_cc.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
      .variants = kSafetyVariants, .pathCases = kSafetyCcPathCases, .studies = kSafetyStudies,
-     .mapSummary = safety::mapSummary},
+     .mapSummary = safety::mapSummary, .shaderFile = "safety_cc.glsl",
+     .shaderFunction = "reliefSafetyCc", .shaderSamplers = kSafetyCcSamplers},
     {.name = "curves", .paper = "Fourquet, Cowan & Mann 2008 (geometric displacement on plane and sphere)",
      .summary = "visibility-curve stepping; per ray: walks the ray's own curve from its leading edge",
      .contract = Contract::Approximate, .params = kCurvesParams, .create = createCurves,
