@@ -4,18 +4,16 @@
 // calling the function and its shadow query compiles as GLSL 3.30 core, GLSL ES 3.00 and Vulkan
 // GLSL 4.50, whose SPIR-V spirv-cross turns into HLSL (tests/shaders/check_shader_library.py
 // writes the shader and runs glslangValidator and spirv-cross).
+#include <gtest/gtest.h>
 #include <relief/core/generators.h>
 #include <relief/techniques/registry.h>
-
 #include <support/cli_case.h>
 #include <support/shader_rows.h>
-
-#include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <filesystem>
 #include <regex>
 #include <string>
-#include <sys/wait.h>
 
 namespace relief {
 namespace {
@@ -23,8 +21,8 @@ namespace {
 const std::filesystem::path kLibrary = std::filesystem::path(RELIEF_SOURCE_DIR) / "shaders/relief";
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
-    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree",
-                                  "qdm", "safety-cc"}) {
+    for (std::string_view name :
+         {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree", "qdm", "safety-cc"}) {
         const TechniqueInfo* info = findTechnique(name);
         ASSERT_TRUE(info) << name;
         EXPECT_FALSE(info->shaderFunction.empty()) << name;
@@ -54,8 +52,8 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
     EXPECT_TRUE(std::regex_search(text, trace)) << info.shaderFile << " lacks " << function;
     const std::regex shadow("float " + function + "Shadow\\(" + samplers +
                             "ReliefHit hit,\\s+vec3 lightDirTangent,\\s+ReliefParams p\\)");
-    EXPECT_TRUE(std::regex_search(text, shadow)) << info.shaderFile << " lacks " << function
-                                                 << "Shadow";
+    EXPECT_TRUE(std::regex_search(text, shadow))
+        << info.shaderFile << " lacks " << function << "Shadow";
     // Each sampler holds the heightfield or one array the row bakes, of at most 4 channels.
     auto hf = generateHeightfield("fbm", 16, 16, 1);
     ASSERT_TRUE(hf) << hf.error().message;
@@ -79,9 +77,10 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
     }
     for (const GlslConstant& c : info.glslConstants) {
         std::smatch m;
-        const std::regex declaration("const (float|int) " + std::string(c.name) + " = ([-0-9.e]+);");
-        const bool found = std::regex_search(text, m, declaration) ||
-                           std::regex_search(included, m, declaration);
+        const std::regex declaration("const (float|int) " + std::string(c.name) +
+                                     " = ([-0-9.e]+);");
+        const bool found =
+            std::regex_search(text, m, declaration) || std::regex_search(included, m, declaration);
         ASSERT_TRUE(found) << info.name << ": the library does not declare " << c.name;
         EXPECT_EQ(m[1].str() == "int", c.integer) << c.name;
         EXPECT_EQ(float(std::stod(m[2].str())), float(c.value)) << c.name;
@@ -94,13 +93,13 @@ void expectCompiles(const std::string& label, const std::string& arguments) {
                                       ("relief-shader-library-" + testing::identifierFrom(label));
     std::filesystem::create_directories(tmp);
     const std::filesystem::path log = tmp / "log.txt";
-    const std::string command =
-        fmt::format("/usr/bin/python3 {}/tests/shaders/check_shader_library.py --library {} {} "
-                    "--out {} >{} 2>&1",
-                    RELIEF_SOURCE_DIR, kLibrary.string(), arguments, tmp.string(), log.string());
+    const std::string command = fmt::format(
+        "/usr/bin/python3 {}/tests/shaders/check_shader_library.py --library {} {} "
+        "--out {} >{} 2>&1",
+        RELIEF_SOURCE_DIR, kLibrary.string(), arguments, tmp.string(), log.string());
     const int status = std::system(command.c_str());
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        << label << ":\n" << testing::readFile(log);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << label << ":\n"
+                                                               << testing::readFile(log);
     std::filesystem::remove_all(tmp);
 }
 

@@ -149,7 +149,8 @@ int reliefClampCellY(int cj, ReliefParams p) {
 
 // S at (x, y): the max of the cell's planes (heightAt).
 float reliefHeightAt(sampler2D heights, float x, float y, ReliefParams p) {
-    int ci = reliefClampCellX(int(floor(x - 0.5)), p), cj = reliefClampCellY(int(floor(y - 0.5)), p);
+    int ci = reliefClampCellX(int(floor(x - 0.5)), p);
+    int cj = reliefClampCellY(int(floor(y - 0.5)), p);
     vec3 first, second;
     reliefCellPlanes(reliefCellCorners(heights, ci, cj, p), first, second);
     float u = x - (float(ci) + 0.5), v = y - (float(cj) + 0.5);
@@ -159,7 +160,8 @@ float reliefHeightAt(sampler2D heights, float x, float y, ReliefParams p) {
 // Bilinear interpolation of the samples (bilinearZ): what a bilinear texture fetch gives, with
 // full-precision weights.
 float reliefBilinearZ(sampler2D heights, float x, float y, ReliefParams p) {
-    int ci = reliefClampCellX(int(floor(x - 0.5)), p), cj = reliefClampCellY(int(floor(y - 0.5)), p);
+    int ci = reliefClampCellX(int(floor(x - 0.5)), p);
+    int cj = reliefClampCellY(int(floor(y - 0.5)), p);
     float u = clamp(x - (float(ci) + 0.5), 0.0, 1.0), v = clamp(y - (float(cj) + 0.5), 0.0, 1.0);
     vec4 c = reliefCellCorners(heights, ci, cj, p);
     return (1.0 - v) * ((1.0 - u) * c.x + u * c.y) + v * ((1.0 - u) * c.z + u * c.w);

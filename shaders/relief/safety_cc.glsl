@@ -30,8 +30,10 @@ bool reliefCellsHit(sampler2D heights, ReliefRay ray, float ta, float tb, bool t
     int w = int(p.mapSize.x), h = int(p.mapSize.y);
     tHit = kReliefInfinity;
     for (int guard = 0; guard < kReliefCellGuard; ++guard) {
-        float tx = stepX == 0 ? kReliefInfinity : (float(ci) + (stepX > 0 ? 1.5 : 0.5) - o.x) * invX;
-        float ty = stepY == 0 ? kReliefInfinity : (float(cj) + (stepY > 0 ? 1.5 : 0.5) - o.y) * invY;
+        float tx = stepX == 0 ? kReliefInfinity
+                              : (float(ci) + (stepX > 0 ? 1.5 : 0.5) - o.x) * invX;
+        float ty = stepY == 0 ? kReliefInfinity
+                              : (float(cj) + (stepY > 0 ? 1.5 : 0.5) - o.y) * invY;
         float tc = max(ta, min(min(tx, ty), tb));
         ++steps;
         float t = reliefFirstHitInCell(heights, ray, ci, cj, ta, tc, p);
@@ -80,7 +82,7 @@ float reliefAboveAt(sampler2D heights, ReliefRay ray, ReliefWalk w, int n, Relie
     return ray.origin.z + t * ray.direction.z - (z0 + (b - fb) * (z1 - z0));
 }
 
-// ConeShape::step at texel (i, j) of the ray's class: i = max(r, ⌊max(z − z0, 0)/(s_c − s)⌋).
+// ConeShape::step at a texel of the ray's class: i = max(r, ⌊max(z − z0, 0) / (s_c − s)⌋).
 int reliefConeShapeStep(vec3 cc, float z, float slope) {
     float r = cc.x, z0 = cc.y - cc.x * cc.z;  // as coneMapFromArrays
     float above = z - z0;
@@ -137,7 +139,8 @@ bool reliefLinearHit(sampler2D heights, ReliefRay ray, ReliefWalk w, int lo, int
 bool reliefSafetySpan(sampler2D heights, ReliefRay ray, ReliefWalk w, int lo, int hi,
                       out float tHit, inout int steps, ReliefParams p) {
     if (p.viewDependent != 0) return reliefLinearHit(heights, ray, w, lo, hi, tHit, p);
-    return reliefCellsHit(heights, ray, reliefWalkT(w, lo), reliefWalkT(w, hi), false, tHit, steps, p);
+    return reliefCellsHit(heights, ray, reliefWalkT(w, lo), reliefWalkT(w, hi), false, tHit, steps,
+                          p);
 }
 
 // The first hit of a texel-space ray (any direction).

@@ -18,19 +18,17 @@
 //   with the CPU tracer on the same shadow ray for 99% of hits.
 // - approximate: the error against the CPU tracer and the reference is printed; bounded loosely
 //   (hit rates within 1%, mean |Δt| against the CPU tracer <= 0.05 texel).
-#include <support/gl_test_support.h>
-#include <support/shader_rows.h>
-
 #include <relief/gl/egl_context.h>
 #include <relief/gl/program.h>
 #include <relief/techniques/registry.h>
-
-#include <glm/gtc/matrix_transform.hpp>
+#include <support/gl_test_support.h>
+#include <support/shader_rows.h>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
 #include <sstream>
 
 namespace relief {
@@ -82,7 +80,8 @@ struct LibraryParams {
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
 vec3 texelDirection(vec3 t, const Surface& s) {
-    return glm::normalize(vec3(t.x * float(s.width()), t.y * float(s.height()), t.z * float(s.width())));
+    return glm::normalize(
+        vec3(t.x * float(s.width()), t.y * float(s.height()), t.z * float(s.width())));
 }
 Ray viewRay(vec2 uv, vec3 viewDir, const Surface& s, float midLevel) {
     const vec3 d = -texelDirection(viewDir, s);
@@ -101,22 +100,24 @@ struct View {
 std::vector<View> views() {
     std::vector<View> all;
     const vec3 centre(0.5f, 0.5f, 0.0f);
-    const float elevations[] = {88.0f, 65.0f, 40.0f, 20.0f}, azimuths[] = {10.0f, 35.0f, 130.0f, 250.0f};
+    const float elevations[] = {88.0f, 65.0f, 40.0f, 20.0f},
+                azimuths[] = {10.0f, 35.0f, 130.0f, 250.0f};
     for (int k = 0; k < 4; ++k) {
         const float el = glm::radians(elevations[k]), az = glm::radians(azimuths[k]);
-        const vec3 eye = centre + 1.4f * vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                                             std::sin(el));
+        const vec3 eye = centre + 1.4f * vec3(std::cos(el) * std::cos(az),
+                                              std::cos(el) * std::sin(az), std::sin(el));
         all.push_back({fmt::format("elevation {}", elevations[k]), vec3(0), vec3(1, 0, 0),
                        vec3(0, 1, 0), eye});
     }
     // Tilted: the quad turned 40° about (1, 1, 0) and 25° about z, the mesh at mid-level.
-    const glm::mat3 turn = glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(40.0f),
-                                                 glm::normalize(vec3(1, 1, 0)))) *
-                           glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(25.0f), vec3(0, 0, 1)));
+    const glm::mat3 turn =
+        glm::mat3(
+            glm::rotate(glm::mat4(1.0f), glm::radians(40.0f), glm::normalize(vec3(1, 1, 0)))) *
+        glm::mat3(glm::rotate(glm::mat4(1.0f), glm::radians(25.0f), vec3(0, 0, 1)));
     const vec3 u = turn * vec3(1, 0, 0), v = turn * vec3(0, 1, 0), n = glm::cross(u, v);
     const vec3 origin = -0.5f * (u + v);
-    all.push_back({"tilted quad", origin, u, v,
-                   1.5f * glm::normalize(n + 0.6f * u - 0.3f * v), 0.5f});
+    all.push_back(
+        {"tilted quad", origin, u, v, 1.5f * glm::normalize(n + 0.6f * u - 0.3f * v), 0.5f});
     return all;
 }
 
@@ -165,8 +166,8 @@ void main() {{
     outHitUv = vec4(hit.uv, hit.depth, 0.0);
 }}
 )",
-                       libraryText(info.shaderFile), samplers,
-                       info.shaderFunction, arguments, info.shaderFunction, arguments);
+                       libraryText(info.shaderFile), samplers, info.shaderFunction, arguments,
+                       info.shaderFunction, arguments);
 }
 
 // A max pyramid's levels "<stem>0", "<stem>1", ... as the mip levels of one R32F texture, level
@@ -174,7 +175,8 @@ void main() {{
 GlTexture mipChainTexture(const TechniqueMaps& maps, std::string_view first) {
     const std::string stem(first.substr(0, first.size() - 1));
     std::vector<const MapArray*> levels;
-    for (const MapArray* a; (a = maps.find(stem + std::to_string(levels.size())));) levels.push_back(a);
+    for (const MapArray* a; (a = maps.find(stem + std::to_string(levels.size())));)
+        levels.push_back(a);
     EXPECT_FALSE(levels.empty()) << first;
     if (levels.empty()) return GlTexture();
     auto padded = [](int n) { return 1 << std::bit_width(unsigned(n - 1)); };
@@ -311,12 +313,14 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     EXPECT_EQ(gl::takeGlError(), "");
     std::vector<Fragment> covered;
     for (size_t k = 0; k < planes[0].size(); ++k)
-        if (planes[2][k].w == 1.0f) covered.push_back({planes[0][k], planes[1][k], planes[2][k], planes[3][k]});
+        if (planes[2][k].w == 1.0f)
+            covered.push_back({planes[0][k], planes[1][k], planes[2][k], planes[3][k]});
     return covered;
 }
 
 struct Tally {
-    size_t rays = 0, gpuHits = 0, cpuHits = 0, hitDiffers = 0, tDiffers = 0, missed = 0, overshot = 0;
+    size_t rays = 0, gpuHits = 0, cpuHits = 0, hitDiffers = 0, tDiffers = 0, missed = 0,
+           overshot = 0;
     size_t litChecked = 0, shadowDiffers = 0;
     double sumDt = 0, maxDt = 0, sumRefDt = 0;
     size_t bothHit = 0, refBoth = 0;
@@ -324,8 +328,8 @@ struct Tally {
 
 // One scene × parameter set: every view drawn, every covered pixel checked against the CPU.
 void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
-                const std::vector<std::pair<std::string, double>>& overrides, const std::string& label,
-                Tally& tally) {
+                const std::vector<std::pair<std::string, double>>& overrides,
+                const std::string& label, Tally& tally) {
     auto params = resolveParams(info, overrides);
     ASSERT_TRUE(params) << params.error().message;
     const Contract contract = contractOf(info, *params);
@@ -341,7 +345,8 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     const TechniqueMaps empty;
     const TechniqueMaps& maps = file.techniques.empty() ? empty : file.techniques.front();
     LibraryParams lp;
-    if (const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap)) lp.maxSteps = params->getInt(cap->name);
+    if (const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap))
+        lp.maxSteps = params->getInt(cap->name);
     if (params->has("binary-steps")) lp.binarySteps = params->getInt("binary-steps");
     if (params->has("ascend")) lp.ascend = params->getInt("ascend");
     auto mapParam = [&](const char* key, double fallback) {
@@ -357,7 +362,8 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     if (params->has("view-dependent")) lp.viewDependent = params->getInt("view-dependent");
     if (params->has("positive-distance")) lp.positiveDistance = params->getInt("positive-distance");
 
-    auto cpu = createTracer(info.name, surface, overrides, file.techniques.empty() ? nullptr : &file);
+    auto cpu =
+        createTracer(info.name, surface, overrides, file.techniques.empty() ? nullptr : &file);
     ASSERT_TRUE(cpu) << cpu.error().message;
     auto reference = createTracer(referenceTechnique().name, surface);
     ASSERT_TRUE(reference) << reference.error().message;
@@ -366,7 +372,8 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
 
     for (const View& view : views()) {
         const std::vector<Fragment> fragments = drawQuad(*program, info, *surface, maps, lp, view);
-        ASSERT_GT(fragments.size(), size_t(kImageSize * kImageSize / 20)) << label << " " << view.name;
+        ASSERT_GT(fragments.size(), size_t(kImageSize * kImageSize / 20))
+            << label << " " << view.name;
         std::vector<Ray> rays;
         for (const Fragment& f : fragments)
             rays.push_back(viewRay(vec2(f.uv), vec3(f.view), *surface, view.midLevel));
@@ -415,7 +422,8 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
                 ++tally.refBoth;
                 tally.sumRefDt += std::abs(double(t) - double(r.t));
             }
-            const bool missed = r.hit && !gpuHit, overshot = r.hit && gpuHit && t > r.t + kFloatSlack;
+            const bool missed = r.hit && !gpuHit,
+                       overshot = r.hit && gpuHit && t > r.t + kFloatSlack;
             if (promises) {
                 tally.missed += missed;
                 tally.overshot += overshot;
@@ -423,17 +431,18 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
             const bool print = promises ? (hitDiffers || dt > kFloatSlack || missed || overshot)
                                         : (hitDiffers && tally.hitDiffers <= 5);
             if (print)
-                std::printf("  %s [%s, %s] uv=(%.7g, %.7g) view=(%.7g, %.7g, %.7g): gpu %s t=%.7g "
-                            "steps=%g, cpu %s t=%.7g steps=%d, reference %s t=%.7g\n",
-                            info.name.data(), label.c_str(), view.name.c_str(), f.uv.x, f.uv.y,
-                            f.view.x, f.view.y, f.view.z, gpuHit ? "hit" : "miss", t, f.uv.z,
-                            c.hit ? "hit" : "miss", c.t, c.steps, r.hit ? "hit" : "miss", r.t);
+                std::printf(
+                    "  %s [%s, %s] uv=(%.7g, %.7g) view=(%.7g, %.7g, %.7g): gpu %s t=%.7g "
+                    "steps=%g, cpu %s t=%.7g steps=%d, reference %s t=%.7g\n",
+                    info.name.data(), label.c_str(), view.name.c_str(), f.uv.x, f.uv.y, f.view.x,
+                    f.view.y, f.view.z, gpuHit ? "hit" : "miss", t, f.uv.z, c.hit ? "hit" : "miss",
+                    c.t, c.steps, r.hit ? "hit" : "miss", r.t);
             // The hit's uv and depth are its texel position in the engine's units.
             if (gpuHit) {
                 EXPECT_NEAR(f.hitUv.x * float(surface->width()), position.x, 1e-3f);
                 EXPECT_NEAR(f.hitUv.y * float(surface->height()), position.y, 1e-3f);
-                EXPECT_NEAR(f.hitUv.z * float(surface->width()), surface->depth() * view.midLevel - position.z,
-                            1e-3f);
+                EXPECT_NEAR(f.hitUv.z * float(surface->width()),
+                            surface->depth() * view.midLevel - position.z, 1e-3f);
             }
         }
     }
@@ -454,8 +463,10 @@ TEST_P(ShaderLibraryVsCpu, SameHitsOnQuads) {
         std::string params;
     };
     std::vector<Case> cases = {
-        {"peaks6 64x64 clamp", testing::generatedSurface("peaks6", 64, 64, 0.15f, EdgeMode::Clamp, 7), ""},
-        {"walls 48x48 repeat", testing::generatedSurface("walls", 48, 48, 0.15f, EdgeMode::Repeat, 3), ""},
+        {"peaks6 64x64 clamp",
+         testing::generatedSurface("peaks6", 64, 64, 0.15f, EdgeMode::Clamp, 7), ""},
+        {"walls 48x48 repeat",
+         testing::generatedSurface("walls", 48, 48, 0.15f, EdgeMode::Repeat, 3), ""},
     };
     for (const PathCase& c : info.pathCases)
         cases.push_back({fmt::format("fbm 40x40 clamp {}", c.params),
@@ -472,19 +483,23 @@ TEST_P(ShaderLibraryVsCpu, SameHitsOnQuads) {
         Tally& tally = promises ? contractTally : approximateTally;
         const Tally before = tally;
         ASSERT_NO_FATAL_FAILURE(checkScene(info, c.surface, *overrides, c.label, tally));
-        std::printf("%s [%s] (%s): %zu rays, gpu hits %zu, cpu hits %zu, hit/miss differ %zu, "
-                    "|dt|>%.0e %zu, mean |dt| vs cpu %.3g, max %.3g, mean |t-t_ref| %.3g, "
-                    "missed %zu, overshot %zu, shadows differ %zu of %zu\n",
-                    info.name.data(), c.label.c_str(), toString(contractOf(info, *params)).data(),
-                    tally.rays - before.rays, tally.gpuHits - before.gpuHits, tally.cpuHits - before.cpuHits,
-                    tally.hitDiffers - before.hitDiffers, double(kFloatSlack), tally.tDiffers - before.tDiffers,
-                    tally.bothHit > before.bothHit
-                        ? (tally.sumDt - before.sumDt) / double(tally.bothHit - before.bothHit) : 0.0,
-                    tally.maxDt,
-                    tally.refBoth > before.refBoth
-                        ? (tally.sumRefDt - before.sumRefDt) / double(tally.refBoth - before.refBoth) : 0.0,
-                    tally.missed - before.missed, tally.overshot - before.overshot,
-                    tally.shadowDiffers - before.shadowDiffers, tally.litChecked - before.litChecked);
+        std::printf(
+            "%s [%s] (%s): %zu rays, gpu hits %zu, cpu hits %zu, hit/miss differ %zu, "
+            "|dt|>%.0e %zu, mean |dt| vs cpu %.3g, max %.3g, mean |t-t_ref| %.3g, "
+            "missed %zu, overshot %zu, shadows differ %zu of %zu\n",
+            info.name.data(), c.label.c_str(), toString(contractOf(info, *params)).data(),
+            tally.rays - before.rays, tally.gpuHits - before.gpuHits,
+            tally.cpuHits - before.cpuHits, tally.hitDiffers - before.hitDiffers,
+            double(kFloatSlack), tally.tDiffers - before.tDiffers,
+            tally.bothHit > before.bothHit
+                ? (tally.sumDt - before.sumDt) / double(tally.bothHit - before.bothHit)
+                : 0.0,
+            tally.maxDt,
+            tally.refBoth > before.refBoth
+                ? (tally.sumRefDt - before.sumRefDt) / double(tally.refBoth - before.refBoth)
+                : 0.0,
+            tally.missed - before.missed, tally.overshot - before.overshot,
+            tally.shadowDiffers - before.shadowDiffers, tally.litChecked - before.litChecked);
     }
     if (contractTally.rays > 0) {
         const double n = double(contractTally.rays);
@@ -494,8 +509,11 @@ TEST_P(ShaderLibraryVsCpu, SameHitsOnQuads) {
     }
     if (approximateTally.rays > 0) {
         const double n = double(approximateTally.rays);
-        EXPECT_LE(std::abs(double(approximateTally.gpuHits) - double(approximateTally.cpuHits)), 0.01 * n);
-        EXPECT_LE(approximateTally.bothHit ? approximateTally.sumDt / double(approximateTally.bothHit) : 0.0,
+        EXPECT_LE(std::abs(double(approximateTally.gpuHits) - double(approximateTally.cpuHits)),
+                  0.01 * n);
+        EXPECT_LE(approximateTally.bothHit
+                      ? approximateTally.sumDt / double(approximateTally.bothHit)
+                      : 0.0,
                   0.05);
     }
 }

@@ -1,9 +1,8 @@
 #pragma once
 // The registry rows that declare an engine shader-library function (shaders/relief/), and a test
 // name per row: the shader-library suites of relief_tests and relief_gl_tests run over them.
-#include <relief/techniques/registry.h>
-
 #include <gtest/gtest.h>
+#include <relief/techniques/registry.h>
 
 #include <cctype>
 #include <string>
