@@ -37,16 +37,17 @@ struct ReliefParams {
     int ascend;       // quadtree: 1 = up one level on entering a new parent (relief's default)
     float maxZ;       // qdm: D × the highest height of the map (Surface::maxZ)
     float maxDistance;  // qdm: the map's "max-distance" (0 = unlimited)
-    float phiMax;         // safety-cc: the map's "phi-max" (degrees; 90 = no restriction)
-    int exterior;         // safety-cc: the map's "exterior" (1 = maps for exterior rays only)
-    int viewDependent;    // safety-cc: 1 = S linear between test positions (§7, approximate)
-    int positiveDistance; // safety-cc: 1 = distances clamped to >= 1 (§7, approximate)
+    float phiMax;         // safety-*: the map's "phi-max" (degrees; 90 = no restriction)
+    int exterior;         // safety-*: the map's "exterior" (1 = maps for exterior rays only)
+    int viewDependent;    // safety-*: 1 = S linear between test positions (§7, approximate)
+    int positiveDistance; // safety-*: 1 = distances clamped to >= 1 (§7, approximate)
+    int isotropic;        // safety-sd: 1 = the "sd" map has one channel for every ray class
 };
 
 // relief's defaults for a W×H map baked at depth D (texels), clamp mode, mesh at the top.
 ReliefParams reliefParams(vec2 mapSize, float depth) {
     return ReliefParams(mapSize, depth, 1.0, kReliefClamp, 64, 8, 32, 0, 1.0, 1, depth, 0.0, 90.0,
-                        0, 0, 0);
+                        0, 0, 0, 0);
 }
 
 // Where the view ray meets the relief.

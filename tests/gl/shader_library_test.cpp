@@ -75,7 +75,7 @@ struct LibraryParams {
     float midLevel = 1.0f;
     int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
     float coneMax = 1.0f, maxDistance = 0.0f, phiMax = 90.0f;
-    int exterior = 0, viewDependent = 0, positiveDistance = 0;
+    int exterior = 0, viewDependent = 0, positiveDistance = 0, isotropic = 0;
 };
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
@@ -288,6 +288,7 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform1i(uniform("params.exterior"), lp.exterior);
     glUniform1i(uniform("params.viewDependent"), lp.viewDependent);
     glUniform1i(uniform("params.positiveDistance"), lp.positiveDistance);
+    glUniform1i(uniform("params.isotropic"), lp.isotropic);
     for (size_t k = 0; k < textures.size(); ++k) {
         glBindTextureUnit(GLuint(k), textures[k].id());
         glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
@@ -359,6 +360,7 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     lp.maxDistance = info.name == "qdm" ? float(mapParam("max-distance", 0.0)) : 0.0f;
     lp.phiMax = float(mapParam("phi-max", 90.0));
     lp.exterior = int(mapParam("exterior", 0));
+    lp.isotropic = int(mapParam("isotropic", 0));
     if (params->has("view-dependent")) lp.viewDependent = params->getInt("view-dependent");
     if (params->has("positive-distance")) lp.positiveDistance = params->getInt("positive-distance");
 

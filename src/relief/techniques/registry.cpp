@@ -73,6 +73,7 @@ constexpr ShaderSampler kSafetyCcSamplers[] = {{"heights", ""},
                                                {"ccxMinus", "ccx-", false, "cc"},
                                                {"ccyPlus", "ccy+", false, "cc"},
                                                {"ccyMinus", "ccy-", false, "cc"}};
+constexpr ShaderSampler kSafetySdSamplers[] = {{"heights", ""}, {"sd", "sd"}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
@@ -321,7 +322,9 @@ static const TechniqueInfo kTechniques[] = {
      .buildMaps = buildSafetySdMaps, .mapBytesPerTexel = 32, .check = checkMaps<makeSafetySdTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
-     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary},
+     .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary,
+     .shaderFile = "safety_sd.glsl", .shaderFunction = "reliefSafetySd",
+     .shaderSamplers = kSafetySdSamplers},
     {.name = "safety-cc", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §6.3)",
      .summary = "cylinder-cone safety shapes (N-buffer slopes), centerline jumps, exact cells",
      .contract = Contract::Exact, .params = kSafetyCcParams, .create = createSafetyCc,
