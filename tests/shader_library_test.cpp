@@ -21,8 +21,9 @@ namespace {
 const std::filesystem::path kLibrary = std::filesystem::path(RELIEF_SOURCE_DIR) / "shaders/relief";
 
 TEST(ShaderLibraryRows, TheRowsTheIssueNamesHaveAFunction) {
-    for (std::string_view name : {"linear", "parallax", "cone", "relaxed-cone", "maxmip",
-                                  "quadtree", "qdm", "safety-cc", "safety-sd"}) {
+    for (std::string_view name :
+         {"linear", "parallax", "cone", "relaxed-cone", "maxmip", "quadtree", "qdm", "safety-cc",
+          "safety-sd", "quadtree-oriented"}) {
         const TechniqueInfo* info = findTechnique(name);
         ASSERT_TRUE(info) << name;
         EXPECT_FALSE(info->shaderFunction.empty()) << name;

@@ -6,10 +6,12 @@
 
 ReliefHit reliefMaxmip(sampler2D heights, sampler2D pyramid, vec2 uv, vec3 viewDirTangent,
                        ReliefParams p) {
-    return reliefPyramidView(heights, pyramid, uv, viewDirTangent, kAscentAncestor, p);
+    return reliefPyramidView(heights, pyramid, pyramid, kReliefBoundMax, uv, viewDirTangent,
+                             kAscentAncestor, p);
 }
 
 float reliefMaxmipShadow(sampler2D heights, sampler2D pyramid, ReliefHit hit,
                          vec3 lightDirTangent, ReliefParams p) {
-    return reliefPyramidShadow(heights, pyramid, hit, lightDirTangent, kAscentAncestor, p);
+    return reliefPyramidShadow(heights, pyramid, pyramid, kReliefBoundMax, hit, lightDirTangent,
+                               kAscentAncestor, p);
 }

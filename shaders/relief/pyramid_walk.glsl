@@ -1,7 +1,7 @@
-// The max-pyramid walk of maxmip and quadtree, on a texture. Port of walkPyramid and its helpers
+// The max-pyramid walk of maxmip, quadtree and quadtree-oriented, on textures. Port of walkPyramid and its helpers
 // (src/relief/techniques/common/pyramid_walk.h and its compute twin pyramid_walk.glsl): the same
-// loop, the same conservative node test (the ray below the node's maximum + slack), the exact
-// cell test at the leaves, the same step count.
+// loop, the same conservative node tests (the ray below the node's maximum + slack, or below its
+// oriented plane), the exact cell test at the leaves, the same step count.
 // Map: `pyramid`, the bake's max pyramid, arrays "level0".."level<top>" as the mip levels of one
 // R32F texture (level L at lod L, node (x, y) at texel (x, y); a texture larger than a level is
 // fine, texels outside it are never read), nearest. The pyramid covers the cells: (W+1)×(H+1)
@@ -80,15 +80,47 @@ vec3 reliefNodeExit(ReliefWalkRay r, ReliefNode b, ReliefCursor c) {
     return vec3(tx, ty, max(c.t, min(min(tx, ty), r.tExit)));
 }
 
-// MaxBound::enter: the first t in [t, tOut] where the ray is at or below the node's maximum
-// (+ slack), or kReliefInfinity; one fetch.
-float reliefMaxBoundEnter(sampler2D pyramid, ReliefNode b, ReliefWalkRay r, float t, float tOut) {
-    float top = texelFetch(pyramid, ivec2(b.nx, b.ny), b.level).r + r.slack;
+// The first t in [t, tOut] where the ray is at or below height `top`, or kReliefInfinity.
+float reliefEnterBelow(float top, ReliefWalkRay r, float t, float tOut) {
     if (r.d.z < 0.0) {
         if (r.o.z + tOut * r.d.z > top) return kReliefInfinity;
         return clamp((top - r.o.z) * r.inv.z, t, tOut);
     }
     return r.o.z + t * r.d.z <= top ? t : kReliefInfinity;
+}
+
+const int kReliefBoundMax = 0;       // MaxBound: the node's maximum (maxmip, quadtree)
+const int kReliefBoundOriented = 1;  // OrientedBound: the max, then the node's plane
+
+// enterBelowPlane (quadtree-oriented): where the ray goes below the node's plane through
+// (c00, c10, c01) at its corners, rising rays only up to the node's maximum.
+float reliefEnterBelowPlane(vec4 node, ReliefNode b, ReliefCursor c, ReliefWalkRay r, float t,
+                            float tOut) {
+    float scale = 1.0 / float(1 << b.level);
+    float sx = (node.y - node.x) * scale, sy = (node.z - node.x) * scale;
+    vec3 q = r.o + t * r.d;
+    float x0 = float(c.baseX + b.loX) + 0.5, y0 = float(c.baseY + b.loY) + 0.5;
+    float above = q.z - (node.x + sx * (q.x - x0) + sy * (q.y - y0)) - r.slack;
+    if (above <= 0.0) return t;
+    float rate = r.d.z - sx * r.d.x - sy * r.d.y;  // d(above)/dt
+    if (rate >= 0.0) return kReliefInfinity;
+    float tPlane = t - above / rate;
+    if (tPlane > tOut) return kReliefInfinity;
+    if (r.d.z > 0.0 && r.o.z + tPlane * r.d.z > node.w + r.slack) return kReliefInfinity;
+    return tPlane;
+}
+
+// The bound's enter: the first t in [t, tOut] where the ray may be on or below S in the node
+// (> tOut: none); one fetch. `oriented` holds levels 1.. at lods 0.. (OrientedBound).
+float reliefBoundEnter(sampler2D pyramid, sampler2D oriented, int bound, ReliefNode b,
+                       ReliefCursor c, ReliefWalkRay r, float t, float tOut) {
+    if (bound == kReliefBoundMax || b.level == 0)
+        return reliefEnterBelow(texelFetch(pyramid, ivec2(b.nx, b.ny), b.level).r + r.slack, r,
+                                t, tOut);
+    vec4 node = texelFetch(oriented, ivec2(b.nx, b.ny), b.level - 1);
+    float tIn = reliefEnterBelow(node.w + r.slack, r, t, tOut);
+    if (tIn > tOut) return tIn;
+    return reliefEnterBelowPlane(node, b, c, r, tIn, tOut);
 }
 
 float reliefLeafHit(sampler2D heights, ReliefRay ray, ReliefWalkRay r, ReliefCursor c,
@@ -163,9 +195,9 @@ bool reliefAdvance(int ascent, ReliefPyramid pyramid, ReliefWalkRay r, ReliefNod
     return true;
 }
 
-// walkPyramid<ascent> with MaxBound: the first hit of a texel-space ray in any direction.
-ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, ReliefRay ray, int ascent,
-                            ReliefParams p) {
+// walkPyramid<ascent> with the bound: the first hit of a texel-space ray in any direction.
+ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D oriented, int bound,
+                            ReliefRay ray, int ascent, ReliefParams p) {
     vec2 span = reliefClip(ray, p);
     if (!(span.x <= span.y)) return reliefNoHit(0);
     ReliefPyramid tree = reliefPyramidLayout(p);
@@ -195,7 +227,7 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, ReliefRay ray,
         ++steps;
         ReliefNode b = reliefNodeBox(tree, c);
         vec3 e = reliefNodeExit(r, b, c);
-        float tIn = reliefMaxBoundEnter(pyramid, b, r, c.t, e.z);
+        float tIn = reliefBoundEnter(pyramid, oriented, bound, b, c, r, c.t, e.z);
         if (tIn <= e.z) {
             if (c.level > 0) {  // descend into the child that holds the ray at tIn
                 c.t = tIn;
@@ -219,17 +251,17 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, ReliefRay ray,
 }
 
 // The walk from a view ray (descending only), and the shadow query on the same walk.
-ReliefHit reliefPyramidView(sampler2D heights, sampler2D pyramid, vec2 uv, vec3 viewDirTangent,
-                            int ascent, ReliefParams p) {
+ReliefHit reliefPyramidView(sampler2D heights, sampler2D pyramid, sampler2D oriented, int bound,
+                            vec2 uv, vec3 viewDirTangent, int ascent, ReliefParams p) {
     ReliefRay ray = reliefViewRay(uv, viewDirTangent, p);
     if (!(ray.direction.z < 0.0)) return reliefNoHit(0);
-    return reliefPyramidWalk(heights, pyramid, ray, ascent, p);
+    return reliefPyramidWalk(heights, pyramid, oriented, bound, ray, ascent, p);
 }
 
-float reliefPyramidShadow(sampler2D heights, sampler2D pyramid, ReliefHit hit,
-                          vec3 lightDirTangent, int ascent, ReliefParams p) {
+float reliefPyramidShadow(sampler2D heights, sampler2D pyramid, sampler2D oriented, int bound,
+                          ReliefHit hit, vec3 lightDirTangent, int ascent, ReliefParams p) {
     if (!hit.hit) return 1.0;
     ReliefRay ray = reliefShadowRay(hit, lightDirTangent, p);
     if (ray.direction.z <= 0.0) return 0.0;
-    return reliefPyramidWalk(heights, pyramid, ray, ascent, p).hit ? 0.0 : 1.0;
+    return reliefPyramidWalk(heights, pyramid, oriented, bound, ray, ascent, p).hit ? 0.0 : 1.0;
 }

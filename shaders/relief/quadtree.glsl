@@ -11,10 +11,12 @@ int reliefQuadtreeAscent(ReliefParams p) { return p.ascend == 0 ? kAscentNone : 
 
 ReliefHit reliefQuadtree(sampler2D heights, sampler2D pyramid, vec2 uv, vec3 viewDirTangent,
                          ReliefParams p) {
-    return reliefPyramidView(heights, pyramid, uv, viewDirTangent, reliefQuadtreeAscent(p), p);
+    return reliefPyramidView(heights, pyramid, pyramid, kReliefBoundMax, uv, viewDirTangent,
+                             reliefQuadtreeAscent(p), p);
 }
 
 float reliefQuadtreeShadow(sampler2D heights, sampler2D pyramid, ReliefHit hit,
                            vec3 lightDirTangent, ReliefParams p) {
-    return reliefPyramidShadow(heights, pyramid, hit, lightDirTangent, reliefQuadtreeAscent(p), p);
+    return reliefPyramidShadow(heights, pyramid, pyramid, kReliefBoundMax, hit, lightDirTangent,
+                               reliefQuadtreeAscent(p), p);
 }

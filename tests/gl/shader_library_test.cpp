@@ -170,24 +170,30 @@ void main() {{
                        info.shaderFunction, arguments);
 }
 
-// A max pyramid's levels "<stem>0", "<stem>1", ... as the mip levels of one R32F texture, level
-// 0 padded to powers of two so that every GL mip level holds its pyramid level.
+// A pyramid's levels "<stem><k>", "<stem><k+1>", ... as the mip levels 0, 1, ... of one float
+// texture, level 0 padded to powers of two so that every GL mip level holds its pyramid level.
 GlTexture mipChainTexture(const TechniqueMaps& maps, std::string_view first) {
-    const std::string stem(first.substr(0, first.size() - 1));
+    const size_t digits = first.find_last_not_of("0123456789") + 1;
+    const std::string stem(first.substr(0, digits));
     std::vector<const MapArray*> levels;
-    for (const MapArray* a; (a = maps.find(stem + std::to_string(levels.size())));)
+    for (const MapArray* a;
+         (a = maps.find(stem + std::to_string(std::stoi(std::string(first.substr(digits))) +
+                                              int(levels.size()))));)
         levels.push_back(a);
     EXPECT_FALSE(levels.empty()) << first;
     if (levels.empty()) return GlTexture();
+    static const GLenum internal[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
+    static const GLenum format[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    const int channels = levels[0]->channels;
     auto padded = [](int n) { return 1 << std::bit_width(unsigned(n - 1)); };
     GLuint id = 0;
     glCreateTextures(GL_TEXTURE_2D, 1, &id);
-    glTextureStorage2D(id, GLsizei(levels.size()), GL_R32F, padded(levels[0]->width),
+    glTextureStorage2D(id, GLsizei(levels.size()), internal[channels - 1], padded(levels[0]->width),
                        padded(levels[0]->height));
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     for (size_t l = 0; l < levels.size(); ++l)
-        glTextureSubImage2D(id, GLint(l), 0, 0, levels[l]->width, levels[l]->height, GL_RED,
-                            GL_FLOAT, levels[l]->data.data());
+        glTextureSubImage2D(id, GLint(l), 0, 0, levels[l]->width, levels[l]->height,
+                            format[channels - 1], GL_FLOAT, levels[l]->data.data());
     glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
     glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, GLint(levels.size()) - 1);

@@ -67,6 +67,8 @@ Status checkMaps(const TechniqueInput& input) {
 constexpr ShaderSampler kHeightsSampler[] = {{"heights", ""}};
 constexpr ShaderSampler kConeSamplers[] = {{"heights", ""}, {"cones", "cones"}};
 constexpr ShaderSampler kPyramidSamplers[] = {{"heights", ""}, {"pyramid", "level0", true}};
+constexpr ShaderSampler kOrientedSamplers[] = {
+    {"heights", ""}, {"pyramid", "level0", true}, {"oriented", "oriented1", true}};
 constexpr ShaderSampler kQdmSamplers[] = {{"heights", ""}, {"qdm", "qdm"}};
 constexpr ShaderSampler kSafetyCcSamplers[] = {{"heights", ""},
                                                {"ccxPlus", "ccx+", false, "cc"},
@@ -293,7 +295,8 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Exact, .params = kQuadtreeOrientedParams,
      .create = createQuadtreeOriented, .buildMaps = buildQuadtreeOrientedMaps, .mapBytesPerTexel = 28,
      .check = checkMaps<orientedMapsFor>, .glsl = "quadtree_oriented/quadtree_oriented.glsl",
-     .glslConstants = kPyramidWalkGlslConstants},
+     .glslConstants = kPyramidWalkGlslConstants, .shaderFile = "quadtree_oriented.glsl",
+     .shaderFunction = "reliefQuadtreeOriented", .shaderSamplers = kOrientedSamplers},
     {.name = "cone", .paper = "Dummer 2006 (cone step mapping)",
      .summary = "conservative cone steps (footprint frustum) with an exact cell finish",
      .contract = Contract::Conservative, .params = kConeParams, .create = createCone,

@@ -109,8 +109,8 @@ class SphereSurface;  // sphere/sphere_surface.h
 
 // A sampler of a row's engine shader-library function (shaders/relief/, docs/engine.md), in
 // parameter order: its name there and the map array it holds, one texture per array with the
-// array's floats ("" = the heightfield itself, h in [0, 1]). mipChain: `array` is "<stem>0" and
-// the arrays "<stem>1", "<stem>2", ... are its mip levels (a max pyramid). fallback: the array
+// array's floats ("" = the heightfield itself, h in [0, 1]). mipChain: `array` is "<stem><k>"
+// and "<stem><k>", "<stem><k+1>", ... are its mip levels 0, 1, ... (a pyramid). fallback: the array
 // it holds when the bake has no `array` (safety-cc's isotropic "cc" for each ray class).
 struct ShaderSampler {
     std::string_view name;
