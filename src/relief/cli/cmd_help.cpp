@@ -49,14 +49,18 @@ std::string mapsHelp(bool markdown) {
     out += kMapsIntro;
     for (const TechniqueInfo& info : techniques()) {
         if (!info.buildMaps) continue;
+        const std::string shader =
+            info.shaderFunction.empty()
+                ? std::string("none")
+                : fmt::format("`{}` in shaders/relief/{}", info.shaderFunction, info.shaderFile);
         if (markdown) {
-            out += fmt::format("\n## {}\n\nContract: {}. Formats: {}.\n\n", info.name,
-                               toString(info.contract), exportFormats(info));
+            out += fmt::format("\n## {}\n\nContract: {}. Formats: {}. Shader function: {}.\n\n",
+                               info.name, toString(info.contract), exportFormats(info), shader);
             out += "| array | channel | meaning | range | 8/16-bit | rounding | filter | depth |\n"
                    "|---|---|---|---|---|---|---|---|\n";
         } else {
-            out += fmt::format("\n{} ({}): {}\n", info.name, toString(info.contract),
-                               exportFormats(info));
+            out += fmt::format("\n{} ({}): {}; shader function: {}\n", info.name,
+                               toString(info.contract), exportFormats(info), shader);
         }
         int channel = 0;
         std::string_view array;
@@ -77,8 +81,13 @@ std::string mapsHelp(bool markdown) {
         }
     }
     std::string none;
-    for (const TechniqueInfo& info : techniques())
-        if (!info.buildMaps) none += (none.empty() ? "" : ", ") + std::string(info.name);
+    for (const TechniqueInfo& info : techniques()) {
+        if (info.buildMaps) continue;
+        none += (none.empty() ? "" : ", ") + std::string(info.name);
+        if (!info.shaderFunction.empty())
+            none += fmt::format(" (shader function {} in shaders/relief/{})", info.shaderFunction,
+                                info.shaderFile);
+    }
     out += fmt::format("\n{}Without maps (they read the heightfield only): {}.\n",
                        markdown ? "" : "", none);
     return out;
@@ -126,6 +135,9 @@ void addHelpCommand(CLI::App& app) {
                 std::cout << fmt::format("  {:<18}   variant {} ({}): {}, {}{}\n", "", v.label,
                                          v.params, toString(v.contract), v.summary,
                                          v.clampOnly ? " (clamp mode only)" : "");
+            if (!info.shaderFunction.empty())
+                std::cout << fmt::format("  {:<18}   shader function {} (shaders/relief/{})\n", "",
+                                         info.shaderFunction, info.shaderFile);
         }
         std::cout << "\nBaked maps, their channels and export formats: relief help maps.\n";
         std::cout << "\nA variant is its own row in relief bench: -t NAME:PARAM=V[:PARAM=V].\n"

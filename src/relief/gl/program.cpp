@@ -177,6 +177,18 @@ Result<GlProgram> link(std::string_view label, std::initializer_list<GLuint> sha
     return GlProgram(program);
 }
 
+Result<GlProgram> linkGraphics(std::string_view label, const std::vector<Part>& vertexParts,
+                               const std::vector<Part>& fragmentParts) {
+    auto vertex = compile(GL_VERTEX_SHADER, label, vertexParts);
+    if (!vertex) return vertex.error();
+    auto fragment = compile(GL_FRAGMENT_SHADER, label, fragmentParts);
+    if (!fragment) {
+        glDeleteShader(*vertex);
+        return fragment.error();
+    }
+    return link(label, {*vertex, *fragment});
+}
+
 }  // namespace
 
 Result<GlProgram> computeProgram(std::string_view label,
@@ -197,6 +209,12 @@ Result<GlProgram> computeProgramFromText(std::string_view label, std::string_vie
     return link(label, {*shader});
 }
 
+Result<GlProgram> graphicsProgramFromText(std::string_view label, std::string_view vertexText,
+                                          std::string_view fragmentText) {
+    return linkGraphics(label, {{"<vertex text>", std::string(vertexText)}},
+                        {{"<fragment text>", std::string(fragmentText)}});
+}
+
 Result<GlProgram> graphicsProgram(std::string_view label,
                                   std::initializer_list<std::string_view> vertexFiles,
                                   std::initializer_list<std::string_view> fragmentFiles) {
@@ -204,14 +222,7 @@ Result<GlProgram> graphicsProgram(std::string_view label,
     if (!vertexParts) return vertexParts.error();
     auto fragmentParts = assemble(fragmentFiles, nullptr);
     if (!fragmentParts) return fragmentParts.error();
-    auto vertex = compile(GL_VERTEX_SHADER, label, *vertexParts);
-    if (!vertex) return vertex.error();
-    auto fragment = compile(GL_FRAGMENT_SHADER, label, *fragmentParts);
-    if (!fragment) {
-        glDeleteShader(*vertex);
-        return fragment.error();
-    }
-    return link(label, {*vertex, *fragment});
+    return linkGraphics(label, *vertexParts, *fragmentParts);
 }
 
 }  // namespace relief::gl

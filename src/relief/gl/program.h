@@ -90,6 +90,11 @@ Result<GlProgram> graphicsProgram(std::string_view label,
                                   std::initializer_list<std::string_view> vertexFiles,
                                   std::initializer_list<std::string_view> fragmentFiles);
 
+// Compiles a vertex + fragment pair from literal GLSL as given: each text carries its own
+// #version and nothing is prepended (the engine shader library's tests, GLSL 3.30 core).
+Result<GlProgram> graphicsProgramFromText(std::string_view label, std::string_view vertexText,
+                                          std::string_view fragmentText);
+
 // Compiles a compute program from literal GLSL after the generated interface (tests).
 Result<GlProgram> computeProgramFromText(std::string_view label, std::string_view text);
 

@@ -128,6 +128,18 @@ struct MapChannelSpec {
 
 class SphereSurface;  // sphere/sphere_surface.h
 
+// A sampler of a row's engine shader-library function (shaders/relief/, docs/engine.md), in
+// parameter order: its name there and the map array it holds, one texture per array with the
+// array's floats ("" = the heightfield itself, h in [0, 1]). mipChain: `array` is "<stem><k>"
+// and "<stem><k>", "<stem><k+1>", ... are its mip levels 0, 1, ... (a pyramid). fallback: the array
+// it holds when the bake has no `array` (safety-cc's isotropic "cc" for each ray class).
+struct ShaderSampler {
+    std::string_view name;
+    std::string_view array;
+    bool mipChain = false;
+    std::string_view fallback = {};
+};
+
 // Parameter values by name, complete (defaults filled in) once validated by the registry.
 class ParamValues {
 public:
@@ -233,6 +245,13 @@ struct TechniqueInfo {
     // The channels of its baked arrays, in array then channel order (empty when it has no maps):
     // what `relief bake --format png|ktx2` stores and docs/maps.md lists.
     std::span<const MapChannelSpec> mapChannels = {};
+    // Its function in the engine shader library: the file in shaders/relief/ (after common.glsl),
+    // the function (`ReliefHit F(samplers, uv, viewDirTangent, params)`; its shadow query is
+    // `float FShadow(samplers, hit, lightDirTangent, params)`) and the samplers both take, in
+    // order. Empty: none.
+    std::string_view shaderFile = {};
+    std::string_view shaderFunction = {};
+    std::span<const ShaderSampler> shaderSamplers = {};
 };
 
 // The channel specs of the array `name` (matching "level*" families), in channel order.
