@@ -3,16 +3,15 @@
 namespace relief {
 
 namespace {
-ConeKind relaxedKind(int variant) {
-    return variant == 0 ? ConeKind::SafeStrict : ConeKind::FaithfulRelaxed;
-}
+// Baked maps record the variant they were built for: the published relaxed map is cone_maps'
+// variant 1 (the strict-cone variant 0 was dropped: it is `cone`'s safe map, relaxed_cone.h).
+constexpr int kPublishedVariant = 1;
 }  // namespace
 
 Result<std::unique_ptr<Tracer>> createRelaxedCone(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "relaxed-cone"); !status.ok())
         return status.error();
-    const int variant = input.params.getInt("variant");
-    auto map = coneMapFor(input, "relaxed-cone", relaxedKind(variant), variant);
+    auto map = coneMapFor(input, "relaxed-cone", ConeKind::FaithfulRelaxed, kPublishedVariant);
     if (!map) return map.error();
     const RelaxedLimits limits{input.params.getInt("max-steps"),
                                input.params.getInt("binary-steps")};
@@ -23,16 +22,14 @@ Status checkRelaxedCone(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "relaxed-cone"); !status.ok())
         return status;
     if (!input.maps) return {};
-    const int variant = input.params.getInt("variant");
-    auto map = coneMapFor(input, "relaxed-cone", relaxedKind(variant), variant);
+    auto map = coneMapFor(input, "relaxed-cone", ConeKind::FaithfulRelaxed, kPublishedVariant);
     return map ? Status() : Status(map.error());
 }
 
 Result<TechniqueMaps> buildRelaxedConeMaps(const TechniqueInput& input) {
     if (Status status = checkConeParams(input.params, "relaxed-cone"); !status.ok())
         return status.error();
-    const int variant = input.params.getInt("variant");
-    return coneTechniqueMaps(input, "relaxed-cone", relaxedKind(variant), variant);
+    return coneTechniqueMaps(input, "relaxed-cone", ConeKind::FaithfulRelaxed, kPublishedVariant);
 }
 
 }  // namespace relief

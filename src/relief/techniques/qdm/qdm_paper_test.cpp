@@ -1,0 +1,86 @@
+// qdm variant `paper`: the fast builder against the paper's Θ(N⁴) builder (bit for bit), the
+// convex-bound search against the plain one, the map on a hand-checked spike, and Algorithm 1's
+// step (line and parabola).
+#include <support/cone_test_support.h>
+
+#include <relief/techniques/qdm/qdm_paper.h>
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+namespace relief {
+namespace {
+
+TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
+    for (const char* g : {"fbm", "walls", "terraces", "spikes", "peaks6", "sine", "ramp", "flat"})
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float ratio : {0.2f, 0.5f, 0.0f})
+                for (float maxDistance : {0.0f, 3.0f})
+                    for (auto [w, h] : {std::pair{13, 10}, std::pair{24, 17}}) {
+                        const auto s = testing::makeSurface(g, w, h, edge);
+                        QdmBuildParams params{ratio, maxDistance, false};
+                        params.paper = true;
+                        const auto brute = buildQdmPaperBruteForce(*s, params);
+                        const auto fast = buildQdmPaper(*s, params);
+                        params.convexBound = true;
+                        const auto convex = buildQdmPaperBruteForce(*s, params);
+                        ASSERT_EQ(fast.size(), brute.size());
+                        size_t differ = 0;
+                        for (size_t k = 0; k < fast.size(); ++k) {
+                            differ += std::memcmp(&fast[k], &brute[k], sizeof(QdmTexel)) != 0;
+                            // The same c in exact arithmetic (the parabola is concave).
+                            ASSERT_EQ(convex[k].a, brute[k].a);
+                            ASSERT_EQ(convex[k].b, brute[k].b);
+                            ASSERT_NEAR(convex[k].c, brute[k].c, 1e-5f * (1.0f + std::abs(brute[k].c)));
+                        }
+                        EXPECT_EQ(differ, 0u) << g << " " << toString(edge) << " ratio " << ratio
+                                              << " max-distance " << maxDistance << " " << w << "x" << h;
+                    }
+}
+
+// One spike of height z at the centre of a flat 5×5 map (clamp). From sample (0, 2), two rings
+// from the spike: m(1) = 0, m(2) = z, m(3) = m(4) = 0 (ring 4: the far corners, √20). Cone:
+// b = max(1·0, 0) = 0 at a = 1, then b = max(2·0, z) = z > 0.2·z at a = 2: (a, b) = (2, z).
+// c = max(c_3, c_4) with c_j = (2 + j)/2 − z / (2(j − 2)): max(2.5 − z/2, 3 − z/4).
+TEST(QdmPaperMap, SpikeMatchesTheDefinition) {
+    std::vector<float> values(25, 0.0f);
+    values[2 * 5 + 2] = 1.0f;
+    const auto hf = std::make_shared<const Heightfield>(Heightfield{5, 5, values});
+    const float depth = 3.0f;
+    const Surface s(hf, depth, EdgeMode::Clamp);
+    QdmBuildParams params;
+    params.paper = true;
+    const auto texels = buildQdmPaperBruteForce(s, params);
+    const QdmTexel& q = texels[2 * 5 + 0];
+    const float z = depth;
+    EXPECT_EQ(q.h, 0.0f);
+    EXPECT_EQ(q.a, 2.0f);
+    EXPECT_EQ(q.b, z);
+    EXPECT_FLOAT_EQ(q.c, std::max(2.5f - z / 2.0f, 3.0f - z / 4.0f));
+    const auto fast = buildQdmPaper(s, params);
+    EXPECT_EQ(std::memcmp(&fast[2 * 5], &q, sizeof(QdmTexel)), 0);
+    // The spike itself: everything lower, so the cone never rises and reaches the last ring.
+    const QdmTexel& top = texels[2 * 5 + 2];
+    EXPECT_EQ(top.h, z);
+    EXPECT_EQ(top.a, 2.0f);  // √8 → ring 2, the last
+    EXPECT_EQ(top.b, 0.0f);
+    EXPECT_EQ(top.c, top.a);  // no ring beyond a
+}
+
+// Algorithm 1: the line to (a, b) while alpha ≤ 1, else the parabola's smaller root.
+TEST(QdmPaperTracer, StepIsAlgorithmOne) {
+    const QdmTexel q{2.0f, 1.0f, 3.0f, 0.0f};
+    const float hv = 0.8f, dz = -0.6f;
+    const float line = paperStep(q, 2.0f, hv, dz);
+    EXPECT_FLOAT_EQ(line, 2.0f);  // x = 1.6 ≤ a, where 2 − 0.6 t = (b / a) 0.8 t
+    const float t = paperStep(q, 3.0f, hv, dz);
+    const float x = hv * t;
+    ASSERT_GT(x, q.a);
+    EXPECT_NEAR(3.0f + dz * t, -(x - q.c) * (x - q.c) + q.b + (q.c - q.a) * (q.c - q.a), 1e-4f);
+    // Past the top the parabola descends: a ray high above it misses (no real root).
+    EXPECT_EQ(paperStep(q, 5.0f, hv, dz), kInfinity);
+}
+
+}  // namespace
+}  // namespace relief
