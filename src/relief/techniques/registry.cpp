@@ -9,6 +9,7 @@
 #include <relief/techniques/linear/linear.h>
 #include <relief/techniques/parallax/parallax.h>
 #include <relief/techniques/qdm/qdm.h>
+#include <relief/techniques/qdm/qdm_paper.h>
 #include <relief/techniques/maxmip/maxmip.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
@@ -294,7 +295,7 @@ static const TechniqueInfo kTechniques[] = {
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
      .buildMaps = buildQdmMaps, .mapBytesPerTexel = 40, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
-     .variants = kQdmVariants, .pathCases = kQdmPathCases,
+     .glslConstants = kQdmGlslConstants, .variants = kQdmVariants, .pathCases = kQdmPathCases,
      .studies = kQdmStudies},
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",

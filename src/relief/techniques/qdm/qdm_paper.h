@@ -34,6 +34,8 @@ namespace relief {
 
 // Algorithm 1's "t > ε": a step shorter than this ends the loop (texel units).
 inline constexpr float kQdmPaperEpsilon = 1e-3f;
+// What qdm.glsl reads from here (the qdm row's glslConstants).
+inline constexpr GlslConstant kQdmGlslConstants[] = {{"kQdmPaperEpsilon", kQdmPaperEpsilon, false}};
 
 std::vector<QdmTexel> buildQdmPaper(const Surface& surface, const QdmBuildParams& params);
 std::vector<QdmTexel> buildQdmPaperBruteForce(const Surface& surface,
