@@ -4,6 +4,7 @@
 #include <support/cone_test_support.h>
 
 #include <relief/techniques/qdm/qdm_paper.h>
+#include <relief/techniques/registry.h>
 
 #include <gtest/gtest.h>
 
@@ -80,6 +81,27 @@ TEST(QdmPaperTracer, StepIsAlgorithmOne) {
     EXPECT_NEAR(3.0f + dz * t, -(x - q.c) * (x - q.c) + q.b + (q.c - q.a) * (q.c - q.a), 1e-4f);
     // Past the top the parabola descends: a ray high above it misses (no real root).
     EXPECT_EQ(paperStep(q, 5.0f, hv, dz), kInfinity);
+}
+
+// Baked maps record the variant: paper maps are used by the paper variant and refused by the safe
+// one (and the other way round); maps without the key are the safe variant's.
+TEST(QdmPaperMap, BakedMapsRecordTheVariant) {
+    const auto s = testing::makeSurface("fbm", 16, 12, EdgeMode::Clamp);
+    const TechniqueInfo& info = *findTechnique("qdm");
+    auto paper = resolveParams(info, {{"variant", 1.0}});
+    auto safe = resolveParams(info, {});
+    auto paperMaps = info.buildMaps(TechniqueInput{s, *paper});
+    auto safeMaps = info.buildMaps(TechniqueInput{s, *safe});
+    ASSERT_TRUE(paperMaps.ok() && safeMaps.ok());
+    EXPECT_TRUE(info.create(TechniqueInput{s, *paper, &*paperMaps}).ok());
+    auto refused = info.create(TechniqueInput{s, *safe, &*paperMaps});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().message.find("variant"), std::string::npos);
+    EXPECT_FALSE(info.create(TechniqueInput{s, *paper, &*safeMaps}).ok());
+    TechniqueMaps older = *safeMaps;
+    older.parameters.erase("variant");
+    EXPECT_TRUE(info.create(TechniqueInput{s, *safe, &older}).ok());
+    EXPECT_FALSE(info.create(TechniqueInput{s, *paper, &older}).ok());
 }
 
 }  // namespace
