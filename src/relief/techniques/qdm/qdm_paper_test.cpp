@@ -3,6 +3,7 @@
 // step (line and parabola).
 #include <support/cone_test_support.h>
 
+#include <relief/core/generators.h>
 #include <relief/techniques/qdm/qdm_paper.h>
 #include <relief/techniques/registry.h>
 
@@ -81,6 +82,27 @@ TEST(QdmPaperTracer, StepIsAlgorithmOne) {
     EXPECT_NEAR(3.0f + dz * t, -(x - q.c) * (x - q.c) + q.b + (q.c - q.a) * (q.c - q.a), 1e-4f);
     // Past the top the parabola descends: a ray high above it misses (no real root).
     EXPECT_EQ(paperStep(q, 5.0f, hv, dz), kInfinity);
+}
+
+// What c = max c_j makes of the parabola (docs/qdm.md): set by the farthest rings, it leaves
+// (a, b) far steeper than the cone part on the standard generators (printed for the doc).
+TEST(QdmPaperMap, ParabolaLeavesTheConeSteeply) {
+    for (const char* g : {"fbm", "sine", "terraces"}) {
+        const auto hf = std::make_shared<const Heightfield>(*generateHeightfield(g, 128, 128, 1));
+        const auto s = std::make_shared<const Surface>(hf, 12.8f, EdgeMode::Clamp);  // depth 0.1·N
+        QdmBuildParams params;
+        params.paper = true;
+        double a = 0.0, rise = 0.0, cone = 0.0;
+        size_t n = 0;
+        for (const QdmTexel& q : buildQdmPaper(*s, params)) {
+            if (!(q.a > 0.0f)) continue;
+            a += q.a, rise += 2.0 * (q.c - q.a), cone += q.b / q.a, ++n;
+        }
+        ASSERT_GT(n, 0u);
+        std::printf("[ qdm paper ] %s 128²: mean a %.1f, parabola slope at a %.1f, cone slope %.2f\n",
+                    g, a / double(n), rise / double(n), cone / double(n));
+        EXPECT_GT(rise, 10.0 * cone) << g;
+    }
 }
 
 // Baked maps record the variant: paper maps are used by the paper variant and refused by the safe
