@@ -19,7 +19,7 @@ Result<TechniqueMaps> buildQdmMaps(const TechniqueInput& input) {
     TechniqueMaps maps;
     maps.technique = "qdm";
     maps.parameters = qdmMapParameters(params);
-    maps.arrays.push_back(encodeQdm(s, params.paper ? buildQdmPaper(s, params) : buildQdm(s, params)));
+    maps.arrays.push_back(encodeQdm(s, buildQdmVariant(s, params)));
     return maps;
 }
 

@@ -625,6 +625,10 @@ std::vector<QdmTexel> buildQdmBruteForce(const Surface& surface, const QdmBuildP
                      [&](int i, int j, WarmStart&) { return search.texelBruteForce(i, j); });
 }
 
+std::vector<QdmTexel> buildQdmVariant(const Surface& surface, const QdmBuildParams& params) {
+    return params.paper ? buildQdmPaper(surface, params) : buildQdm(surface, params);
+}
+
 MapArray encodeQdm(const Surface& s, const std::vector<QdmTexel>& texels) {
     MapArray array{"qdm", s.width(), s.height(), 4, {}};
     array.data.reserve(texels.size() * 4);
@@ -676,8 +680,7 @@ Result<std::shared_ptr<const QdmMap>> qdmMapFor(const TechniqueInput& input) {
     const Surface& s = *input.surface;
     const QdmBuildParams params = QdmBuildParams::from(input.params);
     if (!input.maps)
-        return std::make_shared<const QdmMap>(s, params.paper ? buildQdmPaper(s, params) : buildQdm(s, params),
-                                              params.maxDistance);
+        return std::make_shared<const QdmMap>(s, buildQdmVariant(s, params), params.maxDistance);
     auto texels = bakedTexels(*input.maps, s, params);
     if (!texels) return texels.error();
     return std::make_shared<const QdmMap>(s, std::move(*texels), params.maxDistance);

@@ -112,6 +112,9 @@ std::vector<QdmTexel> buildQdm(const Surface& surface, const QdmBuildParams& par
 // The paper's Θ(N⁴) builder: every cell of the map for every texel (test oracle, small maps).
 std::vector<QdmTexel> buildQdmBruteForce(const Surface& surface, const QdmBuildParams& params);
 
+// The map of the variant params selects (buildQdmPaper for variant 1, qdm_paper.h).
+std::vector<QdmTexel> buildQdmVariant(const Surface& surface, const QdmBuildParams& params);
+
 MapArray encodeQdm(const Surface& surface, const std::vector<QdmTexel>& texels);
 std::map<std::string, std::string> qdmMapParameters(const QdmBuildParams& params);
 // Built now, or taken from input.maps after checking size, channels and build parameters.

@@ -47,7 +47,8 @@ inline float paperStep(const QdmTexel& q, float h0, float horizontal, float dz) 
         const float t = h0 / (q.b / q.a * horizontal - dz);
         if (t * horizontal / q.a <= 1.0f) return t;
     }
-    // A t² + B t + C = 0 by Algorithm 2: B halved, x = C / (−B + sqrt(B² − AC)), ∞ if not real.
+    // A t² + B t + C = 0 by Algorithm 2: B halved, x = C / (−B + sqrt(B² − AC)), ∞ if not
+    // real.
     const float A = horizontal * horizontal;
     const float halfB = 0.5f * (dz - 2.0f * q.c * horizontal);
     const float C = h0 - q.b - q.a * q.a + 2.0f * q.a * q.c;

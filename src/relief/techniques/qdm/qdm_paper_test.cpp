@@ -34,10 +34,12 @@ TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
                             // The same c in exact arithmetic (the parabola is concave).
                             ASSERT_EQ(convex[k].a, brute[k].a);
                             ASSERT_EQ(convex[k].b, brute[k].b);
-                            ASSERT_NEAR(convex[k].c, brute[k].c, 1e-5f * (1.0f + std::abs(brute[k].c)));
+                            ASSERT_NEAR(convex[k].c, brute[k].c,
+                                        1e-5f * (1.0f + std::abs(brute[k].c)));
                         }
-                        EXPECT_EQ(differ, 0u) << g << " " << toString(edge) << " ratio " << ratio
-                                              << " max-distance " << maxDistance << " " << w << "x" << h;
+                        EXPECT_EQ(differ, 0u)
+                            << g << " " << toString(edge) << " ratio " << ratio << " max-distance "
+                            << maxDistance << " " << w << "x" << h;
                     }
 }
 
@@ -99,8 +101,9 @@ TEST(QdmPaperMap, ParabolaLeavesTheConeSteeply) {
             a += q.a, rise += 2.0 * (q.c - q.a), cone += q.b / q.a, ++n;
         }
         ASSERT_GT(n, 0u);
-        std::printf("[ qdm paper ] %s 128²: mean a %.1f, parabola slope at a %.1f, cone slope %.2f\n",
-                    g, a / double(n), rise / double(n), cone / double(n));
+        std::printf(
+            "[ qdm paper ] %s 128²: mean a %.1f, parabola slope at a %.1f, cone slope %.2f\n", g,
+            a / double(n), rise / double(n), cone / double(n));
         EXPECT_GT(rise, 10.0 * cone) << g;
     }
 }

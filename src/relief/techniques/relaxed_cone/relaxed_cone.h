@@ -14,8 +14,8 @@
 //   (variant 0) under another name; use `cone` for the conservative form.
 // Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
 //   reference walk (surface/cell_walk.h, as ExactTracer), so they are exact.
-// Map: "cones", as `cone` (same encodings, recorded as variant 1). Build: one ray walk (exact cell exits)
-//   per sample B above the apex whose strict ratio is below the cone found so far, stopped
+// Map: "cones", as `cone` (same encodings, recorded as variant 1). Build: one ray walk (exact
+//   cell exits) per sample B above the apex whose strict ratio is below the cone found so far, stopped
 //   where the ratio reaches it, samples found through the max pyramid and the neighbour's
 //   guess (cone_maps.h); equal to the Θ(N⁴) brute force to the bit. 1024² on two threads:
 //   fbm 69 s CPU (≈ 35 s wall idle; 102 s under load), the SRTM window 4.6 s CPU
