@@ -67,5 +67,22 @@ TEST(RelaxedConeTracer, ShadowRaysAreExact) {
     EXPECT_EQ(tally.beyondTolerance, 0u);
 }
 
+// Maps baked for the dropped strict-cone variant are refused with a message that says so.
+TEST(RelaxedConeTracer, StrictVariantMapsAreRefused) {
+    const auto s = testing::makeSurface("fbm", 16, 12, EdgeMode::Clamp);
+    const TechniqueInfo& info = *findTechnique("relaxed-cone");
+    auto params = resolveParams(info, {});
+    auto maps = info.buildMaps(TechniqueInput{s, *params});
+    ASSERT_TRUE(maps.ok());
+    EXPECT_TRUE(info.create(TechniqueInput{s, *params, &*maps}).ok());
+    TechniqueMaps strict = *maps;
+    strict.parameters["variant"] = "0";
+    auto refused = info.create(TechniqueInput{s, *params, &strict});
+    ASSERT_FALSE(refused.ok());
+    EXPECT_EQ(refused.error().kind, ErrorKind::InvalidInput);
+    EXPECT_NE(refused.error().message.find("strict-cone"), std::string::npos);
+    EXPECT_FALSE(info.check(TechniqueInput{s, *params, &strict}).ok());
+}
+
 }  // namespace
 }  // namespace relief
