@@ -23,7 +23,9 @@
 // Build: buildQdmPaper walks a max pyramid of the samples nearest ring first for the cone
 //   (nodes that cannot beat the running slope dropped), then branch and bound on c (nodes by
 //   the largest c_j their samples could give); equal to the paper's Θ(N⁴) builder
-//   (buildQdmPaperBruteForce: every sample for every texel) to the bit (qdm_test.cpp).
+//   (buildQdmPaperBruteForce: every sample for every texel) to the bit (qdm_paper_test.cpp).
+//   Cost grows with the cone loop (gently rising ground, a record every ring: ≈ 10× fbm's;
+//   timings in docs/qdm.md). Memory: the sample pyramid (≈ 4/3 floats) + 16 bytes per texel.
 // Departures: rising rays (shadow rays; the paper traces view rays only) take the reference
 //   walk; a step never moves the ray back before its box entry; rays enter through any face.
 #include <relief/surface/cell_cursor.h>

@@ -204,7 +204,7 @@ private:
     }
 
     // c = max c_j over the samples beyond ring a: branch and bound, nodes by the largest c_j
-    // their samples could give ((a + j)/2 and (v − b)/(2(j − a)) bounded apart).
+    // their samples could give.
     float maximizeC(int u, int v, float h, int last, float a, float b) const {
         thread_local std::vector<Node> heap;
         heap.clear();
@@ -215,9 +215,9 @@ private:
             const int far = std::min(ringOf(farthestSquared(n)), last);
             const int near = std::max(ringOf(n.nearest), int(a) + 1);
             if (far < near) return;
-            const float excess = m_pyramid.at(n.level, n.x, n.y) - h - b;
-            const int j = excess >= 0.0f ? near : far;
-            const float bound = 0.5f * (a + float(far)) + excess / (2.0f * (float(j) - a));
+            // c_j grows with v, and at v = top it is convex in j: the larger end bounds it.
+            const float top = m_pyramid.at(n.level, n.x, n.y) - h;
+            const float bound = std::max(paperC(a, b, near, top), paperC(a, b, far, top));
             n.key = bound + 1e-5f * (std::abs(bound) + 1.0f);  // float rounding of the leaves
             if (!(n.key > best)) return;
             heap.push_back(n);
