@@ -9,6 +9,7 @@
 #include <relief/techniques/linear/linear.h>
 #include <relief/techniques/parallax/parallax.h>
 #include <relief/techniques/qdm/qdm.h>
+#include <relief/techniques/qdm/qdm_paper.h>
 #include <relief/techniques/maxmip/maxmip.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/quadtree_oriented/quadtree_oriented.h>
@@ -34,9 +35,9 @@ constexpr VariantSpec kConeVariants[] = {
     {"safe", "variant=0", Contract::Conservative, "footprint-frustum cones, exact cell finish"},
     {"faithful", "variant=1", Contract::Approximate, "Dummer's cones (texel centres): can step past a hit"},
 };
-constexpr VariantSpec kRelaxedConeVariants[] = {
-    {"safe", "variant=0", Contract::Approximate, "strict footprint cones, then binary refinement"},
-    {"faithful", "variant=1", Contract::Approximate, "Policarpo & Oliveira's relaxed cones"},
+constexpr VariantSpec kQdmVariants[] = {
+    {"safe", "variant=0", Contract::Conservative, "footprint profile, exact cell finish"},
+    {"paper", "variant=1", Contract::Approximate, "the published map and Algorithm 1: can step past a hit"},
 };
 constexpr VariantSpec kSafetyVariants[] = {
     {"view-dependent", "view-dependent=1", Contract::Approximate, "S linear between test positions (§7)"},
@@ -84,6 +85,8 @@ constexpr PathCase kRelaxedConePathCases[] = {{"bits=16,binary-steps=4"}};
 constexpr PathCase kQdmPathCases[] = {
     {"max-distance=3,max-steps=20"},
     {"height-ratio=0.5,convex-bound=0", true},
+    {"variant=1"},
+    {"variant=1,max-steps=6,height-ratio=0.5"},
 };
 constexpr PathCase kSafetySdPathCases[] = {
     {"isotropic=1,positive-distance=1"},
@@ -144,7 +147,7 @@ constexpr std::string_view kSafetyBuildRows[] = {"safety-sd", "safety-cc", "safe
 constexpr std::string_view kSafetyCompareMaps[] = {"gen:fbm:256x256:1", "gen:fbm:512x512:1", "gen:fbm:1024x1024:1"};
 constexpr std::string_view kSafetyCompareRows[] = {
     "exact", "linear:max-steps=16", "linear:max-steps=32", "linear:max-steps=64",
-    "relaxed-cone:variant=1:max-steps=8", "relaxed-cone:variant=1:max-steps=15", "relaxed-cone:variant=1:max-steps=35",
+    "relaxed-cone:max-steps=8", "relaxed-cone:max-steps=15", "relaxed-cone:max-steps=35",
     "safety-sd", "safety-sd:isotropic=1", "safety-sd:phi-max=-45", "safety-sd:positive-distance=1",
     "safety-sd:view-dependent=1", "safety-cc", "safety-cc:isotropic=1", "safety-cc:phi-max=-45",
     "safety-cc:positive-distance=1", "safety-cc:view-dependent=1"};
@@ -240,14 +243,13 @@ constexpr StudySpec kExactStudies[] = {
 // bench_cones: cone and relaxed-cone builders (safe and faithful), build time per size, and error
 // vs cap / steps vs elevation per builder, on fbm and an N×N window of the SRTM mosaic centred on
 // the Himalaya (86° E, 28° N: sample 7980, 1860), moved inside the map.
-constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=1"};
+constexpr std::string_view kConeBuildRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone"};
 constexpr int kConeBuildSizes[] = {256, 512, 1024, 2048};
 constexpr std::string_view kConeBuildMaps[] = {"gen:fbm:{N}x{N}:1",
                                                "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,{N},{N}"};
 constexpr std::string_view kConeQualityMaps[] = {"gen:fbm:1024x1024:1", "gen:peaks6:1024x1024:1",
                                                  "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,1024,1024"};
-constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone:variant=0",
-                                                 "relaxed-cone:variant=1"};
+constexpr std::string_view kConeQualityRows[] = {"cone:variant=0", "cone:variant=1", "relaxed-cone"};
 constexpr StudySpec kConeStudies[] = {
     {.name = "cones-builds", .description = "cone map builds (safe, faithful, relaxed faithful), wall and CPU",
      .kind = StudyKind::Builds, .maps = kConeBuildMaps, .techniques = kConeBuildRows, .sizes = kConeBuildSizes},
@@ -374,19 +376,18 @@ static const TechniqueInfo kTechniques[] = {
      .shaderFile = "cone.glsl", .shaderFunction = "reliefCone",
      .shaderSamplers = kConeSamplers},
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
-     .summary = "relaxed cone steps then binary refinement; safe variant = strict cones",
+     .summary = "relaxed cone steps (the published map) then binary refinement",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
      .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .mapBytesPerTexel = 24, .check = checkRelaxedCone,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
-     .variants = kRelaxedConeVariants, .pathCases = kRelaxedConePathCases,
-     .mapChannels = kConeChannels,
+     .pathCases = kRelaxedConePathCases, .mapChannels = kConeChannels,
      .shaderFile = "relaxed_cone.glsl", .shaderFunction = "reliefRelaxedCone",
      .shaderSamplers = kConeSamplers},
     {.name = "qdm", .paper = "Kiglics, Valasek, Bálint & Bán 2023 (quadratic displacement maps)",
      .summary = "cone + revolved parabola steps (footprint profile) with an exact cell finish",
      .contract = Contract::Conservative, .params = kQdmParams, .create = createQdm,
      .buildMaps = buildQdmMaps, .mapBytesPerTexel = 40, .check = checkMaps<qdmMapFor>, .glsl = "qdm/qdm.glsl",
-     .pathCases = kQdmPathCases,
+     .glslConstants = kQdmGlslConstants, .variants = kQdmVariants, .pathCases = kQdmPathCases,
      .studies = kQdmStudies, .mapChannels = kQdmChannels,
      .shaderFile = "qdm.glsl", .shaderFunction = "reliefQdm",
      .shaderSamplers = kQdmSamplers},

@@ -1,4 +1,5 @@
 #include <relief/techniques/qdm/qdm.h>
+#include <relief/techniques/qdm/qdm_paper.h>
 
 namespace relief {
 
@@ -7,6 +8,8 @@ Result<std::unique_ptr<Tracer>> createQdm(const TechniqueInput& input) {
     if (!map) return map.error();
     QdmLimits limits;
     limits.maxSteps = input.params.getInt("max-steps");
+    if (input.params.getInt("variant") == 1)
+        return makeBatchTracer(QdmPaperTracer(input.surface, std::move(*map), limits.maxSteps));
     return makeBatchTracer(QdmTracer(input.surface, std::move(*map), limits));
 }
 
@@ -16,7 +19,7 @@ Result<TechniqueMaps> buildQdmMaps(const TechniqueInput& input) {
     TechniqueMaps maps;
     maps.technique = "qdm";
     maps.parameters = qdmMapParameters(params);
-    maps.arrays.push_back(encodeQdm(s, buildQdm(s, params)));
+    maps.arrays.push_back(encodeQdm(s, buildQdmVariant(s, params)));
     return maps;
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 // qdm — quadratic displacement maps (cone + revolved parabola per texel), exact cell finish.
+// This is variant 0 `safe` (the default); variant 1 `paper`, the map and tracer as published,
+// is qdm_paper.h.
 // Paper: M. Kiglics, G. Valasek, Cs. Bálint, R. Bán, "Quadratic Displacement Maps for Heightmap
 //   Rendering" (Acta Cybernetica 2023): per texel a surface of revolution, a cone up to (a, b)
 //   then the parabola y = −(x − c)² + b + (c − a)², that the heightfield never enters; the ray
@@ -136,6 +138,10 @@ inline constexpr ParamSpec kQdmParams[] = {
     {"convex-bound", 1, 0, 1, true,
      "1 = fit the parabola to the upper convex bound's vertices (paper §4.1), 0 = all points",
      ParamRole::MapShape},
+    {"variant", 0, 0, 1, true,
+     "0 = safe (footprint profile, exact cell finish), 1 = paper (the published map and "
+     "Algorithm 1, qdm_paper.h)",
+     ParamRole::Variant},
 };
 Result<std::unique_ptr<Tracer>> createQdm(const TechniqueInput& input);
 Result<TechniqueMaps> buildQdmMaps(const TechniqueInput& input);

@@ -1,6 +1,7 @@
 #include <relief/techniques/qdm/qdm_map.h>
 
 #include <relief/core/parallel.h>
+#include <relief/techniques/qdm/qdm_paper.h>
 #include <relief/techniques/common/cone_maps.h>
 #include <relief/techniques/common/max_pyramid.h>
 
@@ -38,9 +39,7 @@ float farthestDistance(const Box& a, const Box& b) {
     return std::sqrt(dx * dx + dy * dy);
 }
 
-struct Point {
-    float r, v;
-};
+using Point = QdmPoint;
 
 // What a texel hands to the next one in the build order (QdmSearch::texel).
 struct WarmStart {
@@ -89,8 +88,9 @@ float parabolaC(float a, float b, Point p) {
     return e >= w * w ? 0.5f * (a + p.r) + e / (2.0f * w) : a + std::sqrt(e);
 }
 
-// Andrew's monotone chain, upper half, over points sorted by r.
-std::vector<Point> upperConvexBound(std::span<const Point> points) {
+}  // namespace
+
+std::vector<QdmPoint> upperConvexBound(std::span<const QdmPoint> points) {
     std::vector<Point> hull;
     for (const Point& p : points) {
         while (!hull.empty() && hull.back().r == p.r && hull.back().v <= p.v) hull.pop_back();
@@ -104,6 +104,8 @@ std::vector<Point> upperConvexBound(std::span<const Point> points) {
     }
     return hull;
 }
+
+namespace {
 
 // The paper's search (§3.1, §4.1) over the points sorted by r (the highest first among equal
 // r, so that the cone search depends on the staircase only).
@@ -601,8 +603,10 @@ std::vector<QdmTexel> buildRows(const Surface& s, PerTexel&& perTexel) {
 }  // namespace
 
 QdmBuildParams QdmBuildParams::from(const ParamValues& params) {
-    return {float(params.get("height-ratio")), float(params.get("max-distance")),
-            params.getInt("convex-bound") != 0};
+    QdmBuildParams built{float(params.get("height-ratio")), float(params.get("max-distance")),
+                         params.getInt("convex-bound") != 0};
+    built.paper = params.getInt("variant") == 1;
+    return built;
 }
 
 QdmMap::QdmMap(const Surface& s, std::vector<QdmTexel> texels, float maxDistance)
@@ -621,6 +625,10 @@ std::vector<QdmTexel> buildQdmBruteForce(const Surface& surface, const QdmBuildP
                      [&](int i, int j, WarmStart&) { return search.texelBruteForce(i, j); });
 }
 
+std::vector<QdmTexel> buildQdmVariant(const Surface& surface, const QdmBuildParams& params) {
+    return params.paper ? buildQdmPaper(surface, params) : buildQdm(surface, params);
+}
+
 MapArray encodeQdm(const Surface& s, const std::vector<QdmTexel>& texels) {
     MapArray array{"qdm", s.width(), s.height(), 4, {}};
     array.data.reserve(texels.size() * 4);
@@ -631,7 +639,8 @@ MapArray encodeQdm(const Surface& s, const std::vector<QdmTexel>& texels) {
 std::map<std::string, std::string> qdmMapParameters(const QdmBuildParams& params) {
     return {{"height-ratio", fmt::format("{:.9g}", params.heightRatio)},
             {"max-distance", fmt::format("{:.9g}", params.maxDistance)},
-            {"convex-bound", params.convexBound ? "1" : "0"}};
+            {"convex-bound", params.convexBound ? "1" : "0"},
+            {"variant", params.paper ? "1" : "0"}};
 }
 
 namespace {
@@ -639,6 +648,8 @@ Result<std::vector<QdmTexel>> bakedTexels(const TechniqueMaps& maps, const Surfa
                                           const QdmBuildParams& params) {
     for (const auto& [key, value] : qdmMapParameters(params)) {
         auto found = maps.parameters.find(key);
+        // Maps baked before the paper variant existed are the safe variant's.
+        if (found == maps.parameters.end() && key == "variant" && value == "0") continue;
         if (found == maps.parameters.end() || found->second != value)
             return makeError(ErrorKind::InvalidInput,
                              "qdm: baked maps have {}={} but the tracer asks for {}={}", key,
@@ -656,7 +667,8 @@ Result<std::vector<QdmTexel>> bakedTexels(const TechniqueMaps& maps, const Surfa
     for (size_t k = 0; k < texels.size(); ++k) {
         const float* d = &array->data[4 * k];
         if (!(std::isfinite(d[0]) && std::isfinite(d[1]) && std::isfinite(d[2]) &&
-              std::isfinite(d[3]) && d[0] >= 0.0f && d[1] >= 0.0f && d[2] >= d[0]))
+              std::isfinite(d[3]) && d[0] >= 0.0f && d[1] >= 0.0f &&
+              (params.paper || d[2] >= d[0])))  // the paper's c may lie before a
             return makeError(ErrorKind::InvalidInput, "qdm: texel {} holds an invalid entry", k);
         texels[k] = {d[0], d[1], d[2], d[3]};
     }
@@ -668,7 +680,7 @@ Result<std::shared_ptr<const QdmMap>> qdmMapFor(const TechniqueInput& input) {
     const Surface& s = *input.surface;
     const QdmBuildParams params = QdmBuildParams::from(input.params);
     if (!input.maps)
-        return std::make_shared<const QdmMap>(s, buildQdm(s, params), params.maxDistance);
+        return std::make_shared<const QdmMap>(s, buildQdmVariant(s, params), params.maxDistance);
     auto texels = bakedTexels(*input.maps, s, params);
     if (!texels) return texels.error();
     return std::make_shared<const QdmMap>(s, std::move(*texels), params.maxDistance);

@@ -37,6 +37,13 @@ struct QdmTexel {
     float a = 0, b = 0, c = 0, h = 0;
 };
 
+// A point (distance, height above the apex) of a texel's radial function.
+struct QdmPoint {
+    float r, v;
+};
+// Andrew's monotone chain, upper half, over points sorted by r (§4.1).
+std::vector<QdmPoint> upperConvexBound(std::span<const QdmPoint> points);
+
 struct QdmBuildParams {
     float heightRatio = 0.2f;
     float maxDistance = 0.0f;  // 0 = unlimited
@@ -47,6 +54,8 @@ struct QdmBuildParams {
     // Start the bisection from the previous (neighbouring) texel's cone slope: fewer queries,
     // the same map (tests compare on/off bit for bit).
     bool warmStart = true;
+    // variant=1: the paper's own map (qdm_paper.h), built by buildQdmPaper.
+    bool paper = false;
     static QdmBuildParams from(const ParamValues& params);
 };
 
@@ -102,6 +111,9 @@ private:
 std::vector<QdmTexel> buildQdm(const Surface& surface, const QdmBuildParams& params);
 // The paper's Θ(N⁴) builder: every cell of the map for every texel (test oracle, small maps).
 std::vector<QdmTexel> buildQdmBruteForce(const Surface& surface, const QdmBuildParams& params);
+
+// The map of the variant params selects (buildQdmPaper for variant 1, qdm_paper.h).
+std::vector<QdmTexel> buildQdmVariant(const Surface& surface, const QdmBuildParams& params);
 
 MapArray encodeQdm(const Surface& surface, const std::vector<QdmTexel>& texels);
 std::map<std::string, std::string> qdmMapParameters(const QdmBuildParams& params);

@@ -4,30 +4,23 @@
 //   ch. 18 (2007): cones that may pierce the surface but never let a ray enter the solid twice
 //   inside them; after `max-steps` cone steps a binary search between the last two positions
 //   finds the hit.
-// Guarantee, by variant:
-//   1 `faithful`: the published map (cone_maps.h FaithfulRelaxed): only rays from the box top
-//     above the apex are considered. Rays entering the box elsewhere, or reaching a marching
-//     position after a step, can cross S twice inside a cone (safety shapes §3, Fig. 4): a thin
-//     wall is stepped over. Approximate.
-//   0 `safe` (default): a relaxed cone that satisfies the single-crossing property for every
-//     ray reaching a marching position from anywhere above S (the rays relief traces: shadow
-//     rays, interior origins) is a strict cone (safety shapes §3 and Fig. 6(a): rays starting on
-//     the surface must be accounted for). So the safe map is the safe strict map of `cone`
-//     (footprint frustum, proof in cone_maps.h): a step never passes S, the binary search
-//     always brackets the first crossing, and the reported t is the last position known above
-//     S: never past the first hit. It does not converge within 1e-3 at a fixed cap (no exact
-//     finish, as published), so the row's contract is approximate; relaxed_cone_test.cpp checks
-//     "never past the first hit" for it. Relaxed cones valid only for exterior rays (wider) need
-//     the densely sampled ray sets of safety shapes §3 and are not built here.
+// Guarantee: the published map (cone_maps.h FaithfulRelaxed): only rays from the box top above
+//   the apex are considered. Rays entering the box elsewhere, or reaching a marching position
+//   after a step, can cross S twice inside a cone (safety shapes §3, Fig. 4): a thin wall is
+//   stepped over. Approximate.
+//   There is no strict-cone variant: a relaxed cone that keeps the single-crossing property for
+//   every ray reaching a marching position from anywhere above S is a strict cone (safety shapes
+//   §3, Fig. 6(a)), i.e. the safe map of `cone`, and with an exact finish it would be `cone`
+//   (variant 0) under another name; use `cone` for the conservative form.
 // Shadow rays (d.z ≥ 0): cones built for descending rays say nothing about them; they go to the
 //   reference walk (surface/cell_walk.h, as ExactTracer), so they are exact.
-// Map: "cones", as `cone` (same encodings). Build: faithful = one ray walk (exact cell exits)
-//   per sample B above the apex whose strict ratio is below the cone found so far, stopped
+// Map: "cones", as `cone` (same encodings, recorded as variant 1). Build: one ray walk (exact
+//   cell exits) per sample B above the apex whose strict ratio is below the cone found so far, stopped
 //   where the ratio reaches it, samples found through the max pyramid and the neighbour's
 //   guess (cone_maps.h); equal to the Θ(N⁴) brute force to the bit. 1024² on two threads:
 //   fbm 69 s CPU (≈ 35 s wall idle; 102 s under load), the SRTM window 4.6 s CPU
 //   (docs/cones.md; the published preprocess is reported at about 8 hours); ≈ 10–13× per
-//   doubling of the side on fbm. Safe = the strict build (1.4 s CPU).
+//   doubling of the side on fbm.
 // Steps = cone steps + binary steps; fetches = 1 per cone step + 4 per S evaluation.
 // Departures: the binary search evaluates S exactly (not a bilinear fetch); rays enter through
 //   any face; a ray entering below S hits at entry; the map is fetched nearest-texel.
@@ -111,9 +104,6 @@ inline constexpr ParamSpec kRelaxedConeParams[] = {
     {"max-steps", 15, 1, 4096, true, "relaxed cone steps (GPU Gems 3 listing: 15)",
      ParamRole::IterationCap},
     {"binary-steps", 8, 0, 64, true, "binary refinement steps"},
-    {"variant", 0, 0, 1, true,
-     "0 = safe (strict footprint cones: never past the first hit), 1 = faithful (top rays)",
-     ParamRole::Variant},
     {"bits", 32, 8, 32, true, "map encoding: 32 (float), 16 or 8 (codes rounded to the safe side)",
      ParamRole::Encoding},
     {"sqrt", 0, 0, 1, true, "store sqrt of the cone ratio (finer codes for narrow cones)",
