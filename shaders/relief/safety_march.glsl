@@ -10,48 +10,6 @@
 
 const int kMinCenterlines = 3;   // safety_march.h: fewer centerlines take the exact walk
 const int kFarStep = 1048576;    // safety_march.h: a step that leaves every map
-const int kReliefCellGuard = 1048576;  // a cap valid rays never reach
-
-// ---- The exact cell walk (cellsHit, surface/cell_walk.h) ----
-
-// First hit on S in [ta, tb] into `t`; toExit: tb is the box exit, where leaving through the
-// bottom face is a hit.
-bool reliefCellsHit(sampler2D heights, ReliefRay ray, float ta, float tb, bool toExit,
-                    out float tHit, inout int steps, ReliefParams p) {
-    vec3 o = ray.origin, d = ray.direction;
-    vec3 start = o + ta * d;
-    int ci = reliefClampCellX(int(floor(start.x - 0.5)), p);
-    int cj = reliefClampCellY(int(floor(start.y - 0.5)), p);
-    int stepX = d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0), stepY = d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0);
-    float invX = 1.0 / d.x, invY = 1.0 / d.y;
-    int w = int(p.mapSize.x), h = int(p.mapSize.y);
-    tHit = kReliefInfinity;
-    for (int guard = 0; guard < kReliefCellGuard; ++guard) {
-        float tx = stepX == 0 ? kReliefInfinity
-                              : (float(ci) + (stepX > 0 ? 1.5 : 0.5) - o.x) * invX;
-        float ty = stepY == 0 ? kReliefInfinity
-                              : (float(cj) + (stepY > 0 ? 1.5 : 0.5) - o.y) * invY;
-        float tc = max(ta, min(min(tx, ty), tb));
-        ++steps;
-        float t = reliefFirstHitInCell(heights, ray, ci, cj, ta, tc, p);
-        if (t <= tc) {
-            tHit = t;
-            return true;
-        }
-        if (tc >= tb) {
-            if (toExit && reliefExitsThroughFloor(ray, tb, p)) {
-                tHit = tb;
-                return true;
-            }
-            return false;
-        }
-        if (tx <= ty) ci += stepX; else cj += stepY;
-        if (p.edge == kReliefClamp && (ci < -1 || ci > w - 1 || cj < -1 || cj > h - 1))
-            return false;
-        ta = tc;
-    }
-    return false;
-}
 
 // ---- The centerline march (SafetyTracer<ConeShape>::trace) ----
 

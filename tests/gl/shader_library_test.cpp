@@ -75,7 +75,7 @@ struct LibraryParams {
     float midLevel = 1.0f;
     int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
     float coneMax = 1.0f, maxDistance = 0.0f, phiMax = 90.0f;
-    int exterior = 0, viewDependent = 0, positiveDistance = 0, isotropic = 0;
+    int exterior = 0, viewDependent = 0, positiveDistance = 0, isotropic = 0, variant = 0;
 };
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
@@ -295,6 +295,7 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform1i(uniform("params.viewDependent"), lp.viewDependent);
     glUniform1i(uniform("params.positiveDistance"), lp.positiveDistance);
     glUniform1i(uniform("params.isotropic"), lp.isotropic);
+    glUniform1i(uniform("params.variant"), lp.variant);
     for (size_t k = 0; k < textures.size(); ++k) {
         glBindTextureUnit(GLuint(k), textures[k].id());
         glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
@@ -367,6 +368,8 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     lp.phiMax = float(mapParam("phi-max", 90.0));
     lp.exterior = int(mapParam("exterior", 0));
     lp.isotropic = int(mapParam("isotropic", 0));
+    // The map's variant picks the tracer (qdm: 1 = the paper's map and Algorithm 1).
+    lp.variant = info.name == "qdm" ? int(mapParam("variant", 0)) : 0;
     if (params->has("view-dependent")) lp.viewDependent = params->getInt("view-dependent");
     if (params->has("positive-distance")) lp.positiveDistance = params->getInt("positive-distance");
 
