@@ -154,6 +154,14 @@ TEST(MapExport, CodesHaveTheBakedBits) {
         const Bytes k = readBytes(dir / "b.ktx2");
         EXPECT_EQ(k[12], bits == 8 ? 16 : 77);  // VK_FORMAT_R8G8_UNORM / R16G16_UNORM
     }
+    // A max pyramid: one R8 / R16 UNORM mip chain (PNG holds one array: none).
+    const TechniqueInfo& maxmip = *findTechnique("maxmip");
+    for (int bits : {8, 16}) {
+        const MapFile file = bake(maxmip, surface, {{"bits", bits}});
+        ASSERT_TRUE(exported(maxmip, file, MapFormat::Ktx2, dir / "p.ktx2").ok());
+        EXPECT_EQ(readBytes(dir / "p.ktx2")[12], bits == 8 ? 9 : 70);  // R8_UNORM / R16_UNORM
+        EXPECT_FALSE(exported(maxmip, file, MapFormat::Png, dir / "p.png").ok());
+    }
     const MapFile floats = bake(cone, surface, {});
     ASSERT_TRUE(exported(cone, floats, MapFormat::Ktx2, dir / "floats.ktx2").ok());
     EXPECT_EQ(readBytes(dir / "floats.ktx2")[12], 103);  // VK_FORMAT_R32G32_SFLOAT
@@ -306,13 +314,17 @@ const testing::CliCase kExportCases[] = {
     {"trace png maps", "trace gen:fbm:24x24 -t cone --param bits=16 --maps {tmp}/c.png --rays {tmp}/rays.csv", 0, "hit,t", ""},
     {"trace ktx2 maps", "trace gen:fbm:24x24 -t cone --param bits=16 --maps {tmp}/c.ktx2 --rays {tmp}/rays.csv", 0, "hit,t", ""},
     {"trace ktx2 pyramid", "trace gen:fbm:24x24 -t quadtree --maps {tmp}/q.ktx2 --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"16-bit ktx2 pyramid", "bake gen:fbm:24x24 --maps maxmip --param bits=16 -o {tmp}/m16.ktx2 --deterministic", 0, "wrote", ""},
+    {"trace 16-bit ktx2 pyramid", "trace gen:fbm:24x24 -t maxmip --param bits=16 --maps {tmp}/m16.ktx2 --rays {tmp}/rays.csv", 0, "hit,t", ""},
+    {"pyramid of other bits", "trace gen:fbm:24x24 -t maxmip --param bits=8 --maps {tmp}/m16.ktx2 --rays {tmp}/rays.csv", 3, "", "baked maps have bits=16 but the tracer asks for bits=8"},
     {"stale png maps", "trace gen:fbm:24x24:5 -t cone --param bits=16 --maps {tmp}/c.png --rays {tmp}/rays.csv", 3, "", "c.png: stale maps"},
     {"ktx2 maps of another depth", "trace gen:fbm:24x24 --depth 9 -t quadtree --maps {tmp}/q.ktx2 --rays {tmp}/rays.csv", 3, "", "q.ktx2: maps were baked for depth"},
     {"unknown extension", "bake gen:fbm:24x24 --maps cone -o {tmp}/wall.dds", 1, "", "unknown map file extension '.dds'"},
     {"extension contradicts --format", "bake gen:fbm:24x24 --maps cone -o {tmp}/wall.png --format ktx2", 1, "", "names png but --format is ktx2"},
     {"unknown --format", "bake gen:fbm:24x24 --maps cone --format dds -o {tmp}/wall", 1, "", "--format 'dds' is not exr, png or ktx2"},
     {"float cones as png", "bake gen:fbm:24x24 --maps cone -o {tmp}/f.png", 1, "", "bake with --param bits=16 (or 8), or write --format ktx2 or exr"},
-    {"pyramid as png", "bake gen:fbm:24x24 --maps quadtree -o {tmp}/f.png", 1, "", "level0 holds 32-bit floats and a PNG holds 8/16-bit codes: write --format ktx2"},
+    {"pyramid as png", "bake gen:fbm:24x24 --maps quadtree -o {tmp}/f.png", 1, "", "quadtree maps are 6 arrays (level0, ...) and a PNG holds one: write --format ktx2"},
+    {"16-bit pyramid as png", "bake gen:fbm:24x24 --maps maxmip --param bits=16 -o {tmp}/f.png", 1, "", "a PNG holds one: write --format ktx2"},
     {"two rows in a ktx2", "bake gen:fbm:24x24 --maps cone,quadtree -o {tmp}/f.ktx2", 1, "", "holds the maps of one technique"},
     {"two pyramids in a ktx2", "bake gen:fbm:24x24 --maps quadtree-oriented -o {tmp}/f.ktx2", 1, "", "write --format exr"},
     // README.md, "Export maps for an engine", word for word (paths into {tmp}).

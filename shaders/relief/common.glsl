@@ -31,7 +31,7 @@ struct ReliefParams {
     int edge;         // kReliefClamp or kReliefRepeat, as baked
     int maxSteps;     // iteration cap (relief's max-steps)
     int binarySteps;  // refinement steps (linear, relaxed-cone: relief's binary-steps)
-    int bits;         // cone maps: 32 = float values, 16 / 8 = codes (the map's "bits")
+    int bits;         // cone maps, max pyramids: 32 = floats, 16 / 8 = codes (the map's "bits")
     int sqrtRatio;    // cone maps: 1 when codes hold sqrt(c / cMax) (the map's "sqrt")
     float coneMax;    // cone maps: cMax (the map's "cone-max")
     int ascend;       // quadtree: 1 = up one level on entering a new parent (relief's default)

@@ -3,7 +3,7 @@
 // loop, the same conservative node tests (the ray below the node's maximum + slack, or below its
 // oriented plane), the exact cell test at the leaves, the same step count.
 // Map: `pyramid`, the bake's max pyramid, arrays "level0".."level<top>" as the mip levels of one
-// R32F texture (level L at lod L, node (x, y) at texel (x, y); a texture larger than a level is
+// R32F texture (R16 / R8 UNORM for a bake with bits 16 / 8: p.bits) (level L at lod L, node (x, y) at texel (x, y); a texture larger than a level is
 // fine, texels outside it are never read), nearest. The pyramid covers the cells: (W+1)×(H+1)
 // in clamp mode (first cell −1), W×H in repeat mode.
 // requires: common.glsl
@@ -13,6 +13,7 @@ const int kAscentParent = 1;    // Ascent::Parent: up one level on entering a ne
 const int kAscentAncestor = 2;  // Ascent::Ancestor: up to the common ancestor (maxmip)
 const float kWalkSlack = 5e-7;  // pyramid_walk.h: the node test's rounding margin per unit
 const int kLeafFetches = 4;     // the cell's corners
+const float kPyramidDecodeMargin = 9.5367431640625e-7;  // max_pyramid.h: 2^-20
 const int kReliefWalkGuard = 1048576;  // a cap valid rays never reach (max-steps 0 = none)
 
 // bit_width(x) for x >= 0 (findMSB(x) + 1 where GLSL 4.00 has it).
@@ -111,12 +112,15 @@ float reliefEnterBelowPlane(vec4 node, ReliefNode b, ReliefCursor c, ReliefWalkR
 }
 
 // The bound's enter: the first t in [t, tOut] where the ray may be on or below S in the node
-// (> tOut: none); one fetch. `oriented` holds levels 1.. at lods 0.. (OrientedBound).
+// (> tOut: none); one fetch. `oriented` holds levels 1.. at lods 0.. (OrientedBound). With
+// p.bits 16 / 8 the maxima are codes of D, decoded as decodePyramidCode (max_pyramid.h).
 float reliefBoundEnter(sampler2D pyramid, sampler2D oriented, int bound, ReliefNode b,
-                       ReliefCursor c, ReliefWalkRay r, float t, float tOut) {
-    if (bound == kReliefBoundMax || b.level == 0)
-        return reliefEnterBelow(texelFetch(pyramid, ivec2(b.nx, b.ny), b.level).r + r.slack, r,
-                                t, tOut);
+                       ReliefCursor c, ReliefWalkRay r, float t, float tOut, ReliefParams p) {
+    if (bound == kReliefBoundMax || b.level == 0) {
+        float top = texelFetch(pyramid, ivec2(b.nx, b.ny), b.level).r;
+        if (p.bits < 32) top = top * p.depth * (1.0 + kPyramidDecodeMargin);
+        return reliefEnterBelow(top + r.slack, r, t, tOut);
+    }
     vec4 node = texelFetch(oriented, ivec2(b.nx, b.ny), b.level - 1);
     float tIn = reliefEnterBelow(node.w + r.slack, r, t, tOut);
     if (tIn > tOut) return tIn;
@@ -227,7 +231,7 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D orie
         ++steps;
         ReliefNode b = reliefNodeBox(tree, c);
         vec3 e = reliefNodeExit(r, b, c);
-        float tIn = reliefBoundEnter(pyramid, oriented, bound, b, c, r, c.t, e.z);
+        float tIn = reliefBoundEnter(pyramid, oriented, bound, b, c, r, c.t, e.z, p);
         if (tIn <= e.z) {
             if (c.level > 0) {  // descend into the child that holds the ray at tIn
                 c.t = tIn;

@@ -78,8 +78,16 @@ MapFormat outputFormat(const BakeOptions& o) {
 std::vector<MapStorage> storagesFor(const std::vector<const TechniqueInfo*>& infos,
                                     const MapFile& file, MapFormat format, const std::string& path) {
     std::vector<MapStorage> storages;
-    for (size_t k = 0; k < infos.size(); ++k)
-        for (const MapArray& a : file.techniques[k].arrays) {
+    for (size_t k = 0; k < infos.size(); ++k) {
+        const std::vector<MapArray>& arrays = file.techniques[k].arrays;
+        // Before the storages: no bits parameter makes a PNG hold a pyramid.
+        if (format == MapFormat::Png && arrays.size() > 1)
+            throw CommandFailed{makeError(
+                ErrorKind::BadArgument,
+                "bake: {}: {} maps are {} arrays ({}, ...) and a PNG holds one: write --format "
+                "ktx2 (one file) or exr (docs/maps.md)",
+                path, infos[k]->name, arrays.size(), arrays.front().name)};
+        for (const MapArray& a : arrays) {
             const auto storage = exactStorage(a, arrayKind(*infos[k], a.name), format);
             if (!storage) {
                 const auto specs = channelsOf(*infos[k], a.name);
@@ -94,6 +102,7 @@ std::vector<MapStorage> storagesFor(const std::vector<const TechniqueInfo*>& inf
             }
             storages.push_back(*storage);
         }
+    }
     return storages;
 }
 

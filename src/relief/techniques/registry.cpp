@@ -79,7 +79,8 @@ constexpr ShaderSampler kSafetyCcSamplers[] = {{"heights", ""},
 constexpr ShaderSampler kSafetySdSamplers[] = {{"heights", ""}, {"sd", "sd"}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
-constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
+constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}, {"bits=16"}};
+constexpr PathCase kMaxmipPathCases[] = {{"bits=16"}};
 constexpr PathCase kConePathCases[] = {{"bits=16,sqrt=1"}, {"bits=8,variant=1"}};
 constexpr PathCase kRelaxedConePathCases[] = {{"bits=16,binary-steps=4"}};
 constexpr PathCase kQdmPathCases[] = {
@@ -273,14 +274,21 @@ constexpr MapChannelSpec kConeChannels[] = {
      "(1 - 2^-20)",
      "--param bits=16 (or 8)"},
 };
+constexpr std::string_view kPyramidMaxMeaning = "maximum of S over the node (its cells' corner maximum)";
 constexpr MapChannelSpec kPyramidChannels[] = {
-    {"level*", "max", "maximum of S over the node (its cells' corner maximum)",
+    {"level*", "max", kPyramidMaxMeaning,
+     "bits 8/16: max / D in [0, 1] on the grid k / (2^bits - 1), rounded up; bits 32: texel "
+     "units, 0..D; level L has ceil(n / 2^L) nodes per axis, n = W+1 from cell -1 (clamp) or W "
+     "(repeat)",
+     MapValueKind::Unit, MapRounding::Up, MapFilter::Nearest,
+     "bits 8/16: divided by D (decode max = v * D * (1 + 2^-20)); bits 32: texel units",
+     "--param bits=16 (or 8)"},
+};
+constexpr MapChannelSpec kOrientedChannels[] = {
+    {"level*", "max", kPyramidMaxMeaning,
      "texel units, 0..D; level L has ceil(n / 2^L) nodes per axis, n = W+1 from cell -1 (clamp) "
      "or W (repeat)",
      MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
-};
-constexpr MapChannelSpec kOrientedChannels[] = {
-    kPyramidChannels[0],
     {"oriented*", "c00", "plane over the node at its lower-left corner", "texel units",
      MapValueKind::Float, MapRounding::Exact, MapFilter::Nearest, "heights times D (texel units)"},
     {"oriented*", "c10", "plane at the lower-right corner", "texel units", MapValueKind::Float,
@@ -356,7 +364,7 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
      .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants,
-     .mapChannels = kPyramidChannels,
+     .pathCases = kMaxmipPathCases, .mapChannels = kPyramidChannels,
      .shaderFile = "maxmip.glsl", .shaderFunction = "reliefMaxmip",
      .shaderSamplers = kPyramidSamplers},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",

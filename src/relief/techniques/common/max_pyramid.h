@@ -17,6 +17,11 @@
 //     min((a+1)·2^L, W)); the truncated last node bounds exactly the cells it covers, and
 //     crossing the seam moves to node 0 of the next tile (the walk then restarts at the root).
 // Encoding: one float per node, texel units (D·h), each level in 4×4 tiles (one cache line).
+//   Baked at bits 16 / 8 (`quadtree` and `maxmip`'s `bits`), a node's max m is stored as the
+//   code value k / (2^bits − 1) of D, k = ceil(m / D · (2^bits − 1)) raised until it decodes to
+//   ≥ m (rounded UP: a node maximum stays an upper bound of S, so a skip stays safe; the
+//   leaves' cell test reads the heights, so the tracers stay exact); decode m' = v · D · (1 + kPyramidDecodeMargin). The
+//   pyramid in memory then holds the decoded m', the same whether built now or read back.
 //   Memory: ≈ 4/3 · (W+1)(H+1) floats (tiles pad each level to a multiple of 4).
 // Build: O(WH), parallel over rows (about 0.1 s at 4096² on two cores).
 #include <relief/core/error.h>
@@ -94,14 +99,19 @@ public:
     }
     size_t bytes() const { return m_values.size() * sizeof(float); }
 
+    // Every node replaced by the decoded value of its `bits` code (bits 32: unchanged).
+    void roundUp(int bits, float depth);
+
     // Baked form (max_pyramid_maps.cpp): arrays "level0" .. "level<top>", level L of
-    // widthAt(L) × heightAt(L) nodes, 1 channel, row-major (untiled).
-    std::vector<MapArray> toArrays() const;
+    // widthAt(L) × heightAt(L) nodes, 1 channel, row-major (untiled); codes at bits 16 / 8 (of a
+    // pyramid not rounded up).
+    std::vector<MapArray> toArrays(int bits = 32, float depth = 0.0f) const;
     // Nodes against their children and sampled level-0 cells against `surface` (fromArrays).
-    Status spotCheck(const Surface& surface, const std::string& technique) const;
-    // From those arrays; an error naming the array when one is missing or has the wrong size,
-    // or when spotCheck fails.
-    static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps);
+    Status spotCheck(const Surface& surface, const std::string& technique, int bits) const;
+    // From those arrays, decoded; an error naming the array when one is missing or has the wrong
+    // size, or when spotCheck fails.
+    static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps,
+                                         int bits = 32);
 
 private:
     explicit MaxPyramid(const PyramidLayout& layout);  // levels allocated, not built
@@ -118,8 +128,18 @@ private:
     std::array<Level, PyramidLayout::kMaxLevels> m_levels{};
 };
 
-// The pyramid to trace with: from input.maps (checked) or built now (max_pyramid_maps.cpp).
+// The bits encoding (header): the stored value of a node max m, and a stored value decoded.
+inline constexpr float kPyramidDecodeMargin = 1.0f / float(1 << 20);
+float encodePyramidMax(float max, float depth, int bits);
+inline float decodePyramidCode(float value, float depth) {
+    return value * depth * (1.0f + kPyramidDecodeMargin);
+}
+
+// The pyramid to trace with: from input.maps (checked) or built now (max_pyramid_maps.cpp),
+// at the row's `bits` (32 for rows without one).
 struct TechniqueInput;
+class ParamValues;
+int pyramidBits(const ParamValues& params);
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input);
 // input's pyramid as the baked maps of `technique` ("quadtree", "maxmip").
 Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique);

@@ -5,6 +5,8 @@
 #include <relief/techniques/technique.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
 
 namespace relief {
 
@@ -24,19 +26,35 @@ MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
     }
 }
 
-std::vector<MapArray> MaxPyramid::toArrays() const {
+float encodePyramidMax(float max, float depth, int bits) {
+    if (bits >= 32) return max;
+    if (!(depth > 0.0f) || !(max > 0.0f)) return 0.0f;  // code 0 decodes to 0 ≥ max
+    const uint32_t top = (1u << bits) - 1u;
+    auto k = uint32_t(std::clamp(std::ceil(max / depth * float(top)), 0.0f, float(top)));
+    while (k < top && decodePyramidCode(float(k) / float(top), depth) < max) ++k;
+    return float(k) / float(top);
+}
+
+void MaxPyramid::roundUp(int bits, float depth) {
+    if (bits >= 32) return;
+    for (float& v : m_values) v = decodePyramidCode(encodePyramidMax(v, depth, bits), depth);
+}
+
+std::vector<MapArray> MaxPyramid::toArrays(int bits, float depth) const {
     std::vector<MapArray> arrays;
     for (int level = 0; level < m_layout.levels; ++level) {
         MapArray a{levelName(level), m_layout.widthAt(level), m_layout.heightAt(level), 1, {}};
         a.data.reserve(size_t(a.width) * size_t(a.height));
         for (int y = 0; y < a.height; ++y)
-            for (int x = 0; x < a.width; ++x) a.data.push_back(at(level, x, y));
+            for (int x = 0; x < a.width; ++x)
+                a.data.push_back(encodePyramidMax(at(level, x, y), depth, bits));
         arrays.push_back(std::move(a));
     }
     return arrays;
 }
 
-Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps) {
+Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps,
+                                          int bits) {
     const PyramidLayout layout = PyramidLayout::of(surface);
     MaxPyramid pyramid(layout);
     for (int level = 0; level < layout.levels; ++level) {
@@ -56,10 +74,12 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
                              a->data.size(), w, h);
         const Level& out = pyramid.m_levels[size_t(level)];
         for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                out.values[out.index(x, y)] = a->data[size_t(y) * size_t(w) + size_t(x)];
+            for (int x = 0; x < w; ++x) {
+                const float v = a->data[size_t(y) * size_t(w) + size_t(x)];
+                out.values[out.index(x, y)] = bits < 32 ? decodePyramidCode(v, surface.depth()) : v;
+            }
     }
-    if (Status s = pyramid.spotCheck(surface, maps.technique); !s) return s.error();
+    if (Status s = pyramid.spotCheck(surface, maps.technique, bits); !s) return s.error();
     if (maps.find(levelName(layout.levels)))
         return makeError(ErrorKind::InvalidInput, "{} maps: array '{}' beyond the top level {} of "
                          "this surface's pyramid", maps.technique, levelName(layout.levels),
@@ -68,10 +88,12 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
 }
 
 // Baked maps are checksummed; this catches values edited by hand or a faulty builder. Every node
-// above level 0 must equal the max of its children (exact: max rounds nothing), and up to 4096
-// level-0 cells spread over the map the max of the cell's corners. Linear in the nodes, far less
-// than reading the file.
-Status MaxPyramid::spotCheck(const Surface& surface, const std::string& technique) const {
+// above level 0 must equal the max of its children (exact: max rounds nothing, and rounding up
+// is monotone, so it commutes with max), and up to 4096 level-0 cells spread over the map the
+// max of the cell's corners, rounded up at `bits`. Linear in the nodes, far less than reading
+// the file.
+Status MaxPyramid::spotCheck(const Surface& surface, const std::string& technique,
+                             int bits) const {
     auto refuse = [&](int level, int x, int y, float stored, float expected) {
         return makeError(ErrorKind::InvalidInput,
                          "{} maps: '{}' node ({}, {}) is {} but {} gives {}; the "
@@ -96,24 +118,60 @@ Status MaxPyramid::spotCheck(const Surface& surface, const std::string& techniqu
     const size_t stride = std::max<size_t>(1, count / 4096);
     for (size_t k = stride / 2; k < count; k += stride) {
         const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
-        const float expected = std::max(std::max(vertices.at(x, y), vertices.at(x + 1, y)),
-                                        std::max(vertices.at(x, y + 1), vertices.at(x + 1, y + 1)));
+        const float corners = std::max(std::max(vertices.at(x, y), vertices.at(x + 1, y)),
+                                       std::max(vertices.at(x, y + 1), vertices.at(x + 1, y + 1)));
+        const float expected =
+            bits < 32 ? decodePyramidCode(encodePyramidMax(corners, surface.depth(), bits),
+                                          surface.depth())
+                      : corners;
         if (at(0, x, y) != expected) return refuse(0, x, y, at(0, x, y), expected);
     }
     return {};
 }
 
+int pyramidBits(const ParamValues& params) {
+    return params.has("bits") ? params.getInt("bits") : 32;
+}
+
+namespace {
+Status checkBits(int bits, std::string_view technique) {
+    if (bits != 8 && bits != 16 && bits != 32)
+        return makeError(ErrorKind::BadArgument, "{}: bits must be 8, 16 or 32 (got {})",
+                         technique, bits);
+    return {};
+}
+}  // namespace
+
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {
-    if (!input.maps) return std::make_shared<const MaxPyramid>(*input.surface);
-    auto pyramid = MaxPyramid::fromArrays(*input.surface, *input.maps);
+    const int bits = pyramidBits(input.params);
+    const Surface& s = *input.surface;
+    if (!input.maps) {
+        if (Status st = checkBits(bits, "max pyramid"); !st) return st.error();
+        MaxPyramid pyramid(s);
+        pyramid.roundUp(bits, s.depth());
+        return std::make_shared<const MaxPyramid>(std::move(pyramid));
+    }
+    const TechniqueMaps& maps = *input.maps;
+    if (Status st = checkBits(bits, maps.technique); !st) return st.error();
+    // Maps without the key are float pyramids (quadtree-oriented's, and bakes before `bits`).
+    const auto found = maps.parameters.find("bits");
+    const std::string baked = found == maps.parameters.end() ? "32" : found->second;
+    if (baked != std::to_string(bits))
+        return makeError(ErrorKind::InvalidInput,
+                         "{}: baked maps have bits={} but the tracer asks for bits={}",
+                         maps.technique, baked, bits);
+    auto pyramid = MaxPyramid::fromArrays(s, maps, bits);
     if (!pyramid) return pyramid.error();
     return std::make_shared<const MaxPyramid>(std::move(*pyramid));
 }
 
 Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique) {
+    const int bits = pyramidBits(input.params);
+    if (Status st = checkBits(bits, technique); !st) return st.error();
     TechniqueMaps maps;
     maps.technique = std::string(technique);
-    maps.arrays = MaxPyramid(*input.surface).toArrays();
+    maps.parameters["bits"] = std::to_string(bits);  // decode: value · D at 16 / 8 (header)
+    maps.arrays = MaxPyramid(*input.surface).toArrays(bits, input.surface->depth());
     return maps;
 }
 

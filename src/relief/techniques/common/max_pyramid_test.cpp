@@ -5,6 +5,7 @@
 #include <support/walk_test_support.h>
 
 #include <chrono>
+#include <cmath>
 
 namespace relief {
 namespace {
@@ -64,6 +65,38 @@ TEST_P(MaxPyramidInvariant, NodesBoundSAndEqualTheirCornerMax) {
                 ASSERT_GE(value, sampledMaxS(*surface, layout, lo, hi, loY, hiY))
                     << "level " << level << " node " << nx << "," << ny;
             }
+}
+
+// bits 16 / 8: every node's code is on the grid k / (2^bits − 1), decodes to ≥ the node's float
+// max, and to less than one code step (plus the decode margin) above it; the pyramid read back
+// from the codes is the one rounded up in memory, node for node.
+TEST_P(MaxPyramidInvariant, CodesRoundUpAndReadBackAsRoundedUp) {
+    const auto surface = walk_test::makeSurface(GetParam(), 7);
+    const MaxPyramid exact(*surface);
+    const PyramidLayout& layout = exact.layout();
+    const float depth = surface->depth();
+    for (int bits : {8, 16}) {
+        const float top = float((1u << bits) - 1u);
+        TechniqueMaps maps;
+        maps.technique = "maxmip";
+        maps.arrays = exact.toArrays(bits, depth);
+        auto read = MaxPyramid::fromArrays(*surface, maps, bits);
+        ASSERT_TRUE(read) << read.error().message;
+        MaxPyramid rounded(*surface);
+        rounded.roundUp(bits, depth);
+        for (int level = 0; level < layout.levels; ++level) {
+            const MapArray& a = maps.arrays[size_t(level)];
+            for (int ny = 0; ny < layout.heightAt(level); ++ny)
+                for (int nx = 0; nx < layout.widthAt(level); ++nx) {
+                    const float code = a.data[size_t(ny) * size_t(a.width) + size_t(nx)];
+                    const float m = exact.at(level, nx, ny), up = read->at(level, nx, ny);
+                    ASSERT_EQ(code, std::round(code * top) / top) << bits << " bits";
+                    ASSERT_GE(up, m) << bits << " bits, level " << level;
+                    ASSERT_LE(up, m + depth * (1.0f / top + 2e-6f)) << bits << " bits";
+                    ASSERT_EQ(up, rounded.at(level, nx, ny)) << bits << " bits";
+                }
+        }
+    }
 }
 
 const MapSpec kPyramidMaps[] = {

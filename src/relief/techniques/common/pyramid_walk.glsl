@@ -131,9 +131,12 @@ float enterBelow(float top, WalkRay r, float t, float tOut) {
     return z <= top ? t : kInfinity;
 }
 
-// MaxBound::enter: the node's maximum (one fetch).
-float maxBoundEnter(NodeBox b, WalkRay r, float t, float tOut) {
-    precise float top = mapTexel(kMapLevel0 + b.level, b.nx, b.ny, 0) + r.slack;
+// MaxBound::enter: the node's maximum (one fetch); `codes`: stored as bits 16 / 8 codes of D,
+// decoded as decodePyramidCode (max_pyramid.h) decodes them once.
+float maxBoundEnter(NodeBox b, WalkRay r, float t, float tOut, bool codes) {
+    precise float stored = mapTexel(kMapLevel0 + b.level, b.nx, b.ny, 0);
+    precise float decoded = stored * r.depth * (1.0 + kPyramidDecodeMargin);
+    precise float top = (codes ? decoded : stored) + r.slack;
     return enterBelow(top, r, t, tOut);
 }
 

@@ -244,6 +244,7 @@ inline constexpr GlslConstant kPyramidWalkGlslConstants[] = {
     {"kAscentAncestor", double(int(Ascent::Ancestor)), true},
     {"kWalkSlack", double(kWalkSlack), false},
     {"kLeafFetches", double(kLeafFetches), true},
+    {"kPyramidDecodeMargin", double(kPyramidDecodeMargin), false},
 };
 
 // Along one axis, the child half (low or high) of [lo, lo + 2·half) that holds the ray at t:

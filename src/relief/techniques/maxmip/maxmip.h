@@ -7,7 +7,8 @@
 // Guarantee: exact on S (same hit/miss as `exact`, |Δt| ≤ 1e-3); with max-steps > 0 it is
 //   approximate (a hit at the cursor when the cap is reached).
 // Map: the max pyramid shared with `quadtree` (common/max_pyramid.h): one float per node,
-//   ≈ 4/3 (W+1)(H+1) floats, O(WH) build. The walk is common/pyramid_walk.h with the
+//   ≈ 4/3 (W+1)(H+1) floats, O(WH) build; bits = 16 / 8 store the maxima as codes rounded up
+//   (exact still: the cell test reads the heights). The walk is common/pyramid_walk.h with the
 //   Ancestor policy; only the policy differs from `quadtree`.
 // Steps = nodes and cells tested; fetches = pyramid reads + 4 per cell test.
 // Departures: Tevs et al. bound a texel's bilinear patch by its max and intersect the patch;
@@ -42,6 +43,9 @@ private:
 inline constexpr ParamSpec kMaxmipParams[] = {
     {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate",
      ParamRole::IterationCap},
+    {"bits", 32, 8, 32, true,
+     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact)",
+     ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input);
 Result<TechniqueMaps> buildMaxmipMaps(const TechniqueInput& input);  // maxmip_maps.cpp

@@ -2,7 +2,9 @@
 // max bound (MaxBound) and the Ascent policy from the `ascend` parameter.
 // requires: common/pyramid_walk.glsl
 
-float boundEnter(NodeBox b, WalkRay r, float t, float tOut) { return maxBoundEnter(b, r, t, tOut); }
+float boundEnter(NodeBox b, WalkRay r, float t, float tOut) {
+    return maxBoundEnter(b, r, t, tOut, paramInt(kParamBits) < 32);
+}
 
 Hit trace(Ray ray) {
     const WalkLimits limits = WalkLimits(paramInt(kParamMaxSteps), paramInt(kParamBoxSurface) != 0);

@@ -9,7 +9,8 @@
 //   dips into gets the reference's two-triangle cell test, and when that finds nothing the walk
 //   goes on to the next cell. With max-steps > 0 or box-surface = 1 it is approximate.
 // Map: the max pyramid (max_pyramid.h): one float per node, ≈ 4/3 (W+1)(H+1) floats; built in
-//   O(WH), ≈ 0.1 s at 4096² on two cores.
+//   O(WH), ≈ 0.1 s at 4096² on two cores. bits = 16 / 8 store the maxima as codes rounded up:
+//   exact still (the cell test reads the heights); box-surface = 1 stops at the rounded boxes.
 // Steps = nodes and cells tested; fetches = pyramid reads + 4 per cell test.
 // Departures from the paper:
 //   - S instead of texel boxes: the finest level holds one cell's corner maximum, and the walk
@@ -66,6 +67,9 @@ inline constexpr ParamSpec kQuadtreeParams[] = {
     {"box-surface", 0, 0, 1, true,
      "1 = the paper's surface: stop at the first level-0 node reached (cell boxes; approximate)",
      ParamRole::Variant},
+    {"bits", 32, 8, 32, true,
+     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact)",
+     ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input);
 Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input);

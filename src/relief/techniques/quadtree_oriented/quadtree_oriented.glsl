@@ -24,7 +24,7 @@ float enterBelowPlane(float c00, float c10, float c01, float zmax, NodeBox b, Wa
 
 // OrientedBound::enter.
 float boundEnter(NodeBox b, WalkRay r, float t, float tOut) {
-    if (b.level == 0) return maxBoundEnter(b, r, t, tOut);
+    if (b.level == 0) return maxBoundEnter(b, r, t, tOut, false);
     const int map = kMapOriented1 + b.level - 1;
     const float c00 = mapTexel(map, b.nx, b.ny, 0), c10 = mapTexel(map, b.nx, b.ny, 1);
     const float c01 = mapTexel(map, b.nx, b.ny, 2), zmax = mapTexel(map, b.nx, b.ny, 3);
