@@ -3,9 +3,10 @@
 // loop, the same conservative node tests (the ray below the node's maximum + slack, or below its
 // oriented plane), the exact cell test at the leaves, the same step count.
 // Map: `pyramid`, the bake's max pyramid, arrays "level0".."level<top>" as the mip levels of one
-// R32F texture (R16 / R8 UNORM for a bake with bits 16 / 8: p.bits) (level L at lod L, node (x, y) at texel (x, y); a texture larger than a level is
+// R32F texture (level L at lod L, node (x, y) at texel (x, y); a texture larger than a level is
 // fine, texels outside it are never read), nearest. The pyramid covers the cells: (W+1)×(H+1)
-// in clamp mode (first cell −1), W×H in repeat mode.
+// in clamp mode (first cell −1), W×H in repeat mode. Baked with bits 16 / 8 (quadtree, maxmip):
+// an R16 / R8 UNORM texture of codes of D; set p.bits.
 // requires: common.glsl
 
 const int kAscentNone = 0;      // Ascent::None: stay at the level after a jump (the paper)
