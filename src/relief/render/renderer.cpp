@@ -74,6 +74,10 @@ public:
           m_preview(shading.model == ShadingModel::Preview),
           m_pixelAngle(2.0f * camera.halfHeight() / float(camera.height())) {
         if (!m_preview) return;
+        // Exposure 0: a flat face in full light shows the colour map's own colours.
+        const float flat = shading.ambient + (1.0f - shading.ambient) *
+                                                 std::max(shading.towardsLight.z, 0.1f);
+        m_exposure = std::exp2(shading.exposure) / flat;
         if (shading.color) m_colorMips.emplace(*shading.color, true);
         if (shading.normalMap) m_normalMips.emplace(*shading.normalMap, false);
     }
@@ -127,7 +131,7 @@ public:
             linear += vec3(m_shading.specular *
                            std::pow(std::max(0.0f, glm::dot(n, half)), m_shading.shininess));
         }
-        linear *= std::exp2(m_shading.exposure);
+        linear *= m_exposure;
         return Rgb8(encodeSrgb8(linear.x), encodeSrgb8(linear.y), encodeSrgb8(linear.z));
     }
 
@@ -149,6 +153,7 @@ private:
     const Shading& m_shading;
     bool m_preview;
     float m_pixelAngle;
+    float m_exposure = 1.0f;
     std::optional<MipTexture> m_colorMips, m_normalMips;
 };
 

@@ -22,7 +22,8 @@ struct Shading {
     const ImageRgb8* normalMap = nullptr;  // tangent-space normals over [0,W]×[0,H]
     vec3 background{0.10f, 0.11f, 0.13f};  // written as is (display values) by both models
     ShadingModel model = ShadingModel::Diagnostic;
-    float exposure = 0.0f;   // preview: stops, the linear colour is scaled by 2^exposure
+    // Preview: stops; at 0 a flat face in full light shows the colour map's own colours.
+    float exposure = 0.0f;
     float specular = 0.15f;  // preview: Blinn-Phong strength
     float shininess = 40.0f;
     // Normals interpolated from per-sample normals (central differences) instead of the facets.
