@@ -10,6 +10,7 @@
 #include <relief/render/compare.h>
 #include <relief/render/curves/curves_image.h>
 #include <relief/render/renderer.h>
+#include <relief/render/texture.h>
 #include <relief/techniques/registry.h>
 
 #include <nlohmann/json.hpp>
@@ -401,6 +402,12 @@ void runRender(const RenderOptions& o) {
     }
     const std::optional<ImageRgb8> color = loadColorMap(o);
     const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
+    if (o.shading == "preview") {
+        int64_t mips = 0;
+        for (const std::optional<ImageRgb8>* map : {&color, &normals})
+            if (map->has_value()) mips += mipTextureBytes((*map)->width, (*map)->height);
+        orFail(reserveMemory(mips, "--shading preview: the colour and normal maps' mip levels"));
+    }
     Shading shading;
     shading.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
     shading.shadows = o.shadows;

@@ -70,6 +70,14 @@ vec3 MipTexture::sample(float u, float v, float lod, EdgeMode edge) const {
     return k1 == k0 ? fine : glm::mix(fine, at(k1), lod - float(k0));
 }
 
+int64_t mipTextureBytes(int width, int height) {
+    int64_t bytes = 0;
+    for (int64_t w = width, h = height;; w = std::max<int64_t>(1, w / 2), h = std::max<int64_t>(1, h / 2)) {
+        bytes += w * h * int64_t(sizeof(vec3));
+        if (w == 1 && h == 1) return bytes;
+    }
+}
+
 float mipLevel(float footprint) { return footprint > 1.0f ? std::log2(footprint) : 0.0f; }
 
 }  // namespace relief

@@ -30,6 +30,9 @@ private:
     std::vector<ImageRgbF> m_levels;
 };
 
+// The bytes of a MipTexture of a width×height image (for the memory budget).
+int64_t mipTextureBytes(int width, int height);
+
 // The level whose texels are `footprint` level-0 texels wide: log2, 0 below one texel.
 float mipLevel(float footprint);
 
