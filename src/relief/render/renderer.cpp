@@ -62,11 +62,6 @@ vec3 smoothNormalAt(const Surface& s, const vec3& p) {
 
 namespace {
 
-// The preview's maps: built once per render.
-struct PreviewMaps {
-    std::optional<MipTexture> color, normals;
-};
-
 class Shader {
 public:
     Shader(const Surface& s, const Camera& camera, const Shading& shading)
