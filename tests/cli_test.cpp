@@ -100,6 +100,17 @@ const CliCase kCases[] = {
     {"sphere cap refused", "render gen:sine:16x16 -t exact --surface sphere --max-steps 10 --size 8x8 -o {tmp}/x.png", 5, "", "no iteration cap"},
     {"sphere repeat refused", "render gen:sine:16x16 -t curves --surface sphere --edge repeat --size 8x8 -o {tmp}/x.png", 5, "", "--edge"},
     {"curves repeat refused", "render gen:sine:16x16 -t curves --edge repeat --size 8x8 -o {tmp}/x.png", 5, "", "--edge clamp"},
+    // The preview shading (the default) and the diagnostic look; the bricks' own colour map.
+    {"bricks preview", "render gen:bricks:64x64 --color gen --edge repeat --exposure 0.5 --specular 0.3 --smooth-normals --shadows --size 32x24 -o {tmp}/bricks.png --deterministic", 0, "| exact | exact |", ""},
+    {"bricks diagnostic", "render gen:bricks:64x64:3 --color gen --shading diagnostic --smooth-normals --size 32x24 -o {tmp}/bricksd.png --deterministic", 0, "| exact | exact |", ""},
+    {"exposure needs preview", "render gen:flat:8x8 --shading diagnostic --exposure 1 --size 8x8 -o {tmp}/x.png", 1, "", "--exposure: read by --shading preview only"},
+    {"bad shading", "render gen:flat:8x8 --shading pretty --size 8x8 -o {tmp}/x.png", 1, "", "--shading"},
+    {"no generated colour", "render gen:fbm:8x8 --color gen --size 8x8 -o {tmp}/x.png", 1, "", "generator 'fbm' has no colour map (generators with one: bricks)"},
+    {"generated colour of a file", "render {src}/data/colorado-elevation-400.png --color gen --size 8x8 -o {tmp}/x.png", 1, "", "a generated colour map needs a generator source"},
+    {"generated colour of a window", "render gen:bricks:32x32@crop=0,0,16,16 --color gen --size 8x8 -o {tmp}/x.png", 5, "", "--color gen"},
+    {"curves refuse the preview", "render gen:sine:16x16 -t curves --shading preview --size 8x8 -o {tmp}/x.png", 5, "", "--shading: the visibility-curve renderer draws the diagnostic shading only"},
+    {"sphere refuses smooth normals", "render gen:sine:32x16 --depth 2 --surface sphere -t exact --smooth-normals --size 8x8 -o {tmp}/x.png", 5, "", "--smooth-normals"},
+    {"curves draw the diagnostic look by default", "render gen:sine:32x32 -t curves,exact --size 16x12 --out-dir {tmp}/mixed --deterministic", 0, "| curves | 2 |", ""},
 };
 
 TEST_F(Cli, Table) {

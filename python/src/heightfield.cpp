@@ -125,7 +125,7 @@ void bindHeightfield(py::module_& m) {
         .def_static("generate", &generate, "name"_a, "width"_a, "height"_a, py::kw_only(),
                     "seed"_a = 1, "depth"_a = py::none(), "depth_ratio"_a = 0.1, "edge"_a = "clamp",
                     "A built-in heightfield (core/generators.h: sine, peaks6, fbm, walls, spikes, "
-                    "terraces, ramp, flat), the same as the CLI's gen:NAME:WxH:SEED.")
+                    "terraces, ramp, flat, bricks), the same as the CLI's gen:NAME:WxH:SEED.")
         .def_static("from_array", &fromArray, "array"_a, py::kw_only(), "depth"_a = py::none(),
                     "depth_ratio"_a = 0.1, "edge"_a = "clamp", "height_range"_a = py::none(),
                     "normalize"_a = false,

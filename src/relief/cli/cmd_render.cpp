@@ -10,6 +10,7 @@
 #include <relief/render/compare.h>
 #include <relief/render/curves/curves_image.h>
 #include <relief/render/renderer.h>
+#include <relief/render/texture.h>
 #include <relief/techniques/registry.h>
 
 #include <nlohmann/json.hpp>
@@ -34,6 +35,12 @@ struct RenderOptions {
     float lightAzimuth = 135.0f;
     std::string colorPath, normalPath;
     bool shadows = false;
+    std::string shading = "preview";  // or diagnostic (Shading::model)
+    float exposure = 0.0f, specular = Shading{}.specular;
+    bool smoothNormals = false;
+    // Which of the preview's options were given (the curves and the sphere draw the diagnostic
+    // look and refuse them); set after parsing.
+    std::vector<std::string> previewGiven;
     std::string output, outDir, depthOut, stepsOut, errorOut;
     std::string format = "text";
     bool deterministic = false;
@@ -181,6 +188,17 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     return orFail(loadColorImage(path));
 }
 
+// --color FILE, or `--color gen`: the generator's own colour map (bricks), at the source's size.
+std::optional<ImageRgb8> loadColorMap(const RenderOptions& o) {
+    if (o.colorPath != "gen") return loadOptionalImage(o.colorPath);
+    if (o.surface.source.find('@') != std::string::npos)
+        throw CommandFailed{makeError(ErrorKind::Unsupported,
+                                      "--color gen: {}: a window of a generator has no generated "
+                                      "colour map (crop the image instead)",
+                                      o.surface.source)};
+    return orFail(loadGeneratorColor(o.surface.source));
+}
+
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
 void warnAboutView(const TechniqueInfo& info, const ParamValues& params, const Camera& camera) {
     if (!info.viewWarning || Progress::quiet()) return;
@@ -224,6 +242,9 @@ Status checkDrawable(const RenderOptions& o, const TechniqueInfo& info,
     if ((curves || sphere) && o.shadows)
         return makeError(ErrorKind::Unsupported, "{}: --shadows: {} traces no shadow rays",
                          info.name, what);
+    if ((curves || sphere) && !o.previewGiven.empty())
+        return makeError(ErrorKind::Unsupported, "{}: {}: {} draws the diagnostic shading only",
+                         info.name, o.previewGiven.front(), what);
     if (sphere && !o.technique.mapsPath.empty())
         return makeError(ErrorKind::Unsupported, "{}: --maps: baked maps are for the plane",
                          info.name);
@@ -303,6 +324,11 @@ TechniqueRun planeRun(const TechniqueInfo& info, const Surface& surface, const C
 
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
+    if (o.shading == "diagnostic")
+        for (const std::string& option : o.previewGiven)
+            if (option != "--shading" && option != "--smooth-normals")
+                throw CommandFailed{makeError(ErrorKind::BadArgument,
+                                              "{}: read by --shading preview only", option)};
     std::vector<std::string> names = techniqueList(o.technique.name);
     const bool many = names.size() > 1;
     const bool sphere = o.baseSurface == "sphere";
@@ -374,14 +400,26 @@ void runRender(const RenderOptions& o) {
                                        backendOf(o.technique), surface));
         planeNames.push_back(names[k]);
     }
-    const std::optional<ImageRgb8> color = loadOptionalImage(o.colorPath);
+    const std::optional<ImageRgb8> color = loadColorMap(o);
     const std::optional<ImageRgb8> normals = loadOptionalImage(o.normalPath);
+    if (o.shading == "preview") {
+        int64_t mips = 0;
+        for (const std::optional<ImageRgb8>* map : {&color, &normals})
+            if (map->has_value()) mips += mipTextureBytes((*map)->width, (*map)->height);
+        orFail(reserveMemory(mips, "--shading preview: the colour and normal maps' mip levels"));
+    }
     Shading shading;
     shading.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
     shading.shadows = o.shadows;
     shading.color = color ? &*color : nullptr;
     shading.normalMap = normals ? &*normals : nullptr;
+    // The curves and the sphere draw the diagnostic look (checkDrawable refuses the preview's
+    // options for them).
     const curves::CurvesScene scene{surface, sphereSurface, o.view, size.x, size.y, shading};
+    shading.model = o.shading == "preview" ? ShadingModel::Preview : ShadingModel::Diagnostic;
+    shading.exposure = o.exposure;
+    shading.specular = o.specular;
+    shading.smoothNormals = o.smoothNormals;
     const Camera camera(o.view, *surface, size.x, size.y);
     std::optional<Image<Hit>> reference;  // the plane's, per pixel, for the per-pixel rows
     if (!planeNames.empty()) {
@@ -421,8 +459,8 @@ void runRender(const RenderOptions& o) {
 void addRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "render", "render a heightfield with one or several techniques (orbit camera, Lambert "
-                  "shading; per pixel, or with a row's own image method: " +
+        "render", "render a heightfield with one or several techniques (orbit camera, preview or "
+                  "diagnostic shading; per pixel, or with a row's own image method: " +
                       namesWhere([](const TechniqueInfo& info) {
                           return info.image != ImageMethod::PerPixel;
                       }) +
@@ -432,9 +470,21 @@ void addRenderCommand(CLI::App& app) {
     cmd->get_option("--technique")->description("technique, comma-separated list, or 'all': " + techniqueNames());
     addCameraOptions(*cmd, o->view, o->lightElevation, o->lightAzimuth);
     cmd->add_option("--size", o->size, "image size WxH")->capture_default_str();
-    cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
+    cmd->add_option("--color", o->colorPath,
+                    "colour map over the heightfield (PNG/JPEG; sRGB), or 'gen' for a generator's "
+                    "own (gen:bricks:WxH)");
     cmd->add_option("--normal", o->normalPath, "tangent-space normal map (PNG/JPEG)");
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");
+    cmd->add_option("--shading", o->shading,
+                    "preview: sRGB maps and output, trilinear mipmaps, highlight, exposure; "
+                    "diagnostic: the comparisons' look (Lambert, nearest texels, linear codes)")
+        ->check(CLI::IsMember({"preview", "diagnostic"}))->capture_default_str();
+    cmd->add_option("--exposure", o->exposure, "preview: exposure in stops")
+        ->check(finiteRange(-16.0, 16.0))->capture_default_str();
+    cmd->add_option("--specular", o->specular, "preview: strength of the highlight")
+        ->check(finiteRange(0.0, 16.0))->capture_default_str();
+    cmd->add_flag("--smooth-normals", o->smoothNormals,
+                  "shade with normals interpolated from per-sample normals, not the facets'");
     cmd->add_option("-o,--output", o->output, "colour image (PNG), single technique ('-' = stdout)");
     cmd->add_option("--out-dir", o->outDir, "folder for NAME.png, NAME-steps.png, NAME-error.png per technique");
     cmd->add_option(
@@ -451,7 +501,14 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
         ->check(finiteRange(0.0, 1e7));
     addThreadsOption(*cmd, o->threads);
-    cmd->callback([o] { runRender(*o); });
+    cmd->callback([o, cmd] {
+        o->previewGiven.clear();
+        for (const char* option : {"--shading", "--exposure", "--specular", "--smooth-normals"})
+            if (cmd->count(option) > 0 &&
+                (std::string_view(option) != "--shading" || o->shading == "preview"))
+                o->previewGiven.emplace_back(option);
+        runRender(*o);
+    });
 }
 
 }  // namespace relief::cli

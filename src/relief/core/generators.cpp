@@ -131,15 +131,118 @@ Heightfield ramp(int w, int h, Rng&) {
 
 Heightfield flat(int w, int h, Rng&) { return blank(w, h, 0.5f); }
 
+// A running-bond brick wall that tiles: courses of bricks twice as wide as high, every other course
+// offset by half a brick, separated by mortar joints; each stone has its own height, tilt and
+// colour, a bevelled rim and a little grain. Heights and colours come from the same layout.
+class BrickWall {
+public:
+    BrickWall(int w, int h, Rng& rng) : m_w(w) {
+        // An even number of courses so the half-brick offset tiles vertically.
+        m_courses = std::max(2, 2 * int(std::lround(double(h) / 48.0)));
+        m_courseHeight = double(h) / m_courses;
+        m_perCourse = std::max(1, int(std::lround(double(w) / (2.0 * m_courseHeight))));
+        m_brickWidth = double(w) / m_perCourse;
+        m_mortar = std::max(1.0, 0.1 * m_courseHeight);
+        m_bevel = std::max(1.0, 0.2 * m_courseHeight);
+        m_stones.resize(size_t(m_courses) * size_t(m_perCourse));
+        for (Stone& s : m_stones)
+            s = {rng.uniform(0.8, 1.0), rng.uniform(-0.08, 0.08), rng.uniform(-0.08, 0.08),
+                 rng.uniform(0.75, 1.15), rng.uniform(-0.06, 0.06)};
+        m_grain.resize(size_t(w) * size_t(h));
+        for (double& g : m_grain) g = rng.uniform(-1.0, 1.0);
+    }
+
+    // Height in [0, 1] and colour (sRGB, [0, 1]) of sample (i, j).
+    double height(int i, int j) const {
+        const Place p = place(i, j);
+        const double grain = 0.02 * m_grain[size_t(j) * size_t(m_w) + size_t(i)];
+        if (p.rim <= 0.0) return 0.1 + grain;
+        const Stone& s = m_stones[p.stone];
+        const double bevel = std::min(1.0, p.rim / m_bevel);
+        const double top = s.top + s.tiltX * p.u + s.tiltY * p.v;
+        return 0.1 + (top - 0.1) * std::sqrt(bevel * (2.0 - bevel)) + grain;
+    }
+    void colour(int i, int j, double rgb[3]) const {
+        const Place p = place(i, j);
+        const double grain = 0.05 * m_grain[size_t(j) * size_t(m_w) + size_t(i)];
+        if (p.rim <= 0.0) {
+            for (int c = 0; c < 3; ++c) rgb[c] = 0.72 + grain;
+            return;
+        }
+        const Stone& s = m_stones[p.stone];
+        const double base[3] = {0.62, 0.30, 0.22};
+        const double edge = 0.8 + 0.2 * std::min(1.0, p.rim / m_bevel);
+        for (int c = 0; c < 3; ++c)
+            rgb[c] = std::clamp(base[c] * s.shade * edge + s.hue * (1 - c) + grain, 0.0, 1.0);
+    }
+
+private:
+    struct Stone {
+        double top, tiltX, tiltY, shade, hue;
+    };
+    struct Place {
+        size_t stone;
+        double rim;   // texels from the stone's outline inwards (≤ 0: mortar)
+        double u, v;  // position in the stone, [-1, 1] each
+    };
+    Place place(int i, int j) const {
+        const double y = j + 0.5;
+        const int course = std::min(m_courses - 1, int(y / m_courseHeight));
+        const double x = std::fmod(i + 0.5 + (course % 2) * 0.5 * m_brickWidth, double(m_w));
+        const int column = std::min(m_perCourse - 1, int(x / m_brickWidth));
+        const double lx = x - column * m_brickWidth, ly = y - course * m_courseHeight;
+        const double rim = std::min({lx, m_brickWidth - lx, ly, m_courseHeight - ly}) - 0.5 * m_mortar;
+        return {size_t(course) * size_t(m_perCourse) + size_t(column), rim,
+                2.0 * lx / m_brickWidth - 1.0, 2.0 * ly / m_courseHeight - 1.0};
+    }
+
+    int m_w, m_courses = 2, m_perCourse = 1;
+    double m_courseHeight = 1, m_brickWidth = 1, m_mortar = 1, m_bevel = 1;
+    std::vector<Stone> m_stones;
+    std::vector<double> m_grain;
+};
+
+Heightfield bricks(int w, int h, Rng& rng) {
+    const BrickWall wall(w, h, rng);
+    Heightfield hf = blank(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) hf.at(i, j) = float(std::clamp(wall.height(i, j), 0.0, 1.0));
+    return hf;
+}
+
+ImageRgb8 bricksColor(int w, int h, Rng& rng) {
+    const BrickWall wall(w, h, rng);
+    ImageRgb8 image(w, h);
+    for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+            double rgb[3];
+            wall.colour(i, j, rgb);
+            image.at(i, j) = Rgb8(uint8_t(rgb[0] * 255.0 + 0.5), uint8_t(rgb[1] * 255.0 + 0.5),
+                                  uint8_t(rgb[2] * 255.0 + 0.5));
+        }
+    return image;
+}
+
 struct Generator {
     std::string_view name;
     Heightfield (*make)(int, int, Rng&);
+    ImageRgb8 (*makeColor)(int, int, Rng&) = nullptr;  // a matching colour map, where it has one
 };
 
 constexpr Generator kGenerators[] = {
-    {"sine", sine},         {"peaks6", peaks6}, {"fbm", fbm},   {"walls", walls},
+    {"sine", sine},         {"peaks6", peaks6},     {"fbm", fbm},   {"walls", walls},
     {"spikes", spikes},     {"terraces", terraces}, {"ramp", ramp}, {"flat", flat},
+    {"bricks", bricks, bricksColor},
 };
+
+Rng seeded(uint64_t seed) { return Rng{seed * 0x2545F4914F6CDD1Dull + 1}; }
+
+std::string knownNames(bool (*keep)(const Generator&)) {
+    std::string known;
+    for (const Generator& g : kGenerators)
+        if (keep(g)) known += (known.empty() ? "" : ", ") + std::string(g.name);
+    return known;
+}
 
 }  // namespace
 
@@ -153,12 +256,22 @@ Result<Heightfield> generateHeightfield(std::string_view name, int width, int he
                                         uint64_t seed) {
     for (const Generator& g : kGenerators) {
         if (g.name != name) continue;
-        Rng rng{seed * 0x2545F4914F6CDD1Dull + 1};
+        Rng rng = seeded(seed);
         return g.make(width, height, rng);
     }
-    std::string known;
-    for (const Generator& g : kGenerators) known += (known.empty() ? "" : ", ") + std::string(g.name);
-    return makeError(ErrorKind::BadArgument, "unknown generator '{}' (known: {})", name, known);
+    return makeError(ErrorKind::BadArgument, "unknown generator '{}' (known: {})", name,
+                     knownNames([](const Generator&) { return true; }));
+}
+
+Result<ImageRgb8> generateColorMap(std::string_view name, int width, int height, uint64_t seed) {
+    for (const Generator& g : kGenerators) {
+        if (g.name != name || !g.makeColor) continue;
+        Rng rng = seeded(seed);
+        return g.makeColor(width, height, rng);
+    }
+    return makeError(ErrorKind::BadArgument,
+                     "generator '{}' has no colour map (generators with one: {})", name,
+                     knownNames([](const Generator& g) { return g.makeColor != nullptr; }));
 }
 
 }  // namespace relief

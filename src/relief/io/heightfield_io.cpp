@@ -21,23 +21,37 @@ bool parseSize(std::string_view text, int64_t& w, int64_t& h) {
            parseInt(text.substr(x + 1), h);
 }
 
-Result<Heightfield> loadGenerator(const std::string& spec, const LoadOptions& options) {
-    // gen:NAME:WxH[:seed]
+struct GeneratorSpec {
+    std::string_view name;
+    int64_t width = 0, height = 0, seed = 1;
+};
+
+// gen:NAME:WxH[:seed]
+Result<GeneratorSpec> parseGenerator(const std::string& spec, const LoadOptions& options) {
     std::vector<std::string_view> parts;
     std::string_view rest(spec);
     for (size_t pos; (pos = rest.find(':')) != std::string_view::npos; rest = rest.substr(pos + 1))
         parts.push_back(rest.substr(0, pos));
     parts.push_back(rest);
-    int64_t w = 0, h = 0, seed = 1;
-    if (parts.size() < 3 || parts.size() > 4 || !parseSize(parts[2], w, h) ||
-        (parts.size() == 4 && !parseInt(parts[3], seed)))
+    GeneratorSpec g;
+    if (parts.size() < 3 || parts.size() > 4 || !parseSize(parts[2], g.width, g.height) ||
+        (parts.size() == 4 && !parseInt(parts[3], g.seed)))
         return makeError(ErrorKind::BadArgument,
                          "'{}': a generator is written gen:NAME:WxH[:seed], e.g. gen:fbm:512x512:7",
                          spec);
-    if (Status s = checkDimensions(spec, w, h, options.maxSamples); !s) return s.error();
-    if (Status s = reserveMemory(w * h * int64_t(sizeof(float)), fmt::format("{}: generating", spec)); !s)
+    g.name = parts[1];
+    if (Status s = checkDimensions(spec, g.width, g.height, options.maxSamples); !s) return s.error();
+    return g;
+}
+
+Result<Heightfield> loadGenerator(const std::string& spec, const LoadOptions& options) {
+    auto g = parseGenerator(spec, options);
+    if (!g) return g.error();
+    if (Status s = reserveMemory(g->width * g->height * int64_t(sizeof(float)),
+                                 fmt::format("{}: generating", spec));
+        !s)
         return s.error();
-    return generateHeightfield(parts[1], int(w), int(h), uint64_t(seed));
+    return generateHeightfield(g->name, int(g->width), int(g->height), uint64_t(g->seed));
 }
 
 }  // namespace
@@ -60,6 +74,20 @@ Result<RawLayout> parseRawLayout(const std::string& text) {
 }
 
 Result<Heightfield> loadHeightfieldFile(const std::string& path, const LoadOptions& options);
+
+Result<ImageRgb8> loadGeneratorColor(const std::string& source) {
+    if (source.rfind("gen:", 0) != 0)
+        return makeError(ErrorKind::BadArgument,
+                         "{}: a generated colour map needs a generator source gen:NAME:WxH[:seed]",
+                         source);
+    auto g = parseGenerator(source, {});
+    if (!g) return g.error();
+    if (Status s = reserveMemory(g->width * g->height * int64_t(sizeof(Rgb8) + sizeof(double)),
+                                 fmt::format("{}: generating its colour map", source));
+        !s)
+        return s.error();
+    return generateColorMap(g->name, int(g->width), int(g->height), uint64_t(g->seed));
+}
 
 Result<Heightfield> loadHeightfield(const std::string& source, const LoadOptions& options) {
     auto loaded = source.rfind("gen:", 0) == 0 ? loadGenerator(source, options)

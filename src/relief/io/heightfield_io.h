@@ -34,6 +34,8 @@ Result<RawLayout> parseRawLayout(const std::string& text);
 
 // Colour images (for --color, --normal): 8-bit RGB from PNG/JPEG.
 Result<ImageRgb8> loadColorImage(const std::string& path);
+// The colour map of a generator source `gen:NAME:WxH[:seed]` (generateColorMap: bricks has one).
+Result<ImageRgb8> loadGeneratorColor(const std::string& source);
 
 // The same readers on bytes in memory (a file's content; `name` stands for the path in messages).
 // options.raw and options.maxSamples apply as for files; there are no generators here.
