@@ -11,6 +11,7 @@
 #include <support/shader_rows.h>
 #include <sys/wait.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 #include <string>
@@ -90,9 +91,12 @@ TEST_P(ShaderLibrary, RowMatchesTheLibrary) {
 
 // Runs check_shader_library.py with `arguments`; its output on failure.
 void expectCompiles(const std::string& label, const std::string& arguments) {
-    const std::filesystem::path tmp = std::filesystem::path(::testing::TempDir()) /
-                                      ("relief-shader-library-" + testing::identifierFrom(label));
-    std::filesystem::create_directories(tmp);
+    // A folder of its own (mkdtemp): two runs of the suite at once must not share it.
+    std::string pattern = (std::filesystem::temp_directory_path() /
+                           ("relief-shader-library-" + testing::identifierFrom(label) + "-XXXXXX"))
+                              .string();
+    ASSERT_NE(::mkdtemp(pattern.data()), nullptr) << "mkdtemp " << pattern;
+    const std::filesystem::path tmp = pattern;
     const std::filesystem::path log = tmp / "log.txt";
     const std::string command = fmt::format(
         "/usr/bin/python3 {}/tests/shaders/check_shader_library.py --library {} {} "
