@@ -10,6 +10,10 @@ namespace relief {
 
 namespace {
 std::string levelName(int level) { return "level" + std::to_string(level); }
+// box-surface = 2 (quadtree, maxmip): the texel-box pyramid (MaxPyramid::overTexels).
+bool usesTexelBoxes(const TechniqueInput& input) {
+    return input.params.has("box-surface") && input.params.getInt("box-surface") == 2;
+}
 }  // namespace
 
 MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
@@ -104,6 +108,13 @@ Status MaxPyramid::spotCheck(const Surface& surface, const std::string& techniqu
 }
 
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {
+    if (usesTexelBoxes(input)) {
+        if (input.maps)
+            return makeError(ErrorKind::Unsupported,
+                             "--maps with box-surface=2: the texel-box pyramid is built at load "
+                             "(the baked pyramid is the cells')");
+        return std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(*input.surface));
+    }
     if (!input.maps) return std::make_shared<const MaxPyramid>(*input.surface);
     auto pyramid = MaxPyramid::fromArrays(*input.surface, *input.maps);
     if (!pyramid) return pyramid.error();
@@ -111,6 +122,9 @@ Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& in
 }
 
 Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique) {
+    if (usesTexelBoxes(input))
+        return makeError(ErrorKind::Unsupported, "{}: box-surface=2 has no baked maps (its "
+                                                 "texel-box pyramid is built at load)", technique);
     TechniqueMaps maps;
     maps.technique = std::string(technique);
     maps.arrays = MaxPyramid(*input.surface).toArrays();

@@ -5,7 +5,8 @@
 //   the ray passes above its maximum, and after leaving a node the walk ascends to the common
 //   ancestor of the node and its neighbour before descending again.
 // Guarantee: exact on S (same hit/miss as `exact`, |Δt| ≤ 1e-3); with max-steps > 0 it is
-//   approximate (a hit at the cursor when the cap is reached).
+//   approximate (a hit at the cursor when the cap is reached); box-surface = 1, 2 as quadtree's
+//   (2: the paper-era texel boxes, exact on them, approximate on S, CPU only).
 // Map: the max pyramid shared with `quadtree` (common/max_pyramid.h): one float per node,
 //   ≈ 4/3 (W+1)(H+1) floats, O(WH) build. The walk is common/pyramid_walk.h with the
 //   Ancestor policy; only the policy differs from `quadtree`.
@@ -42,6 +43,7 @@ private:
 inline constexpr ParamSpec kMaxmipParams[] = {
     {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate",
      ParamRole::IterationCap},
+    kBoxSurfaceParam,
 };
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input);
 Result<TechniqueMaps> buildMaxmipMaps(const TechniqueInput& input);  // maxmip_maps.cpp

@@ -59,6 +59,49 @@ TEST(Quadtree, BoxSurfaceIsNeverBehindS) {
     }
 }
 
+// box-surface = 2, the paper's surface: the walk over the texel-box pyramid (both ascents) is
+// the texel-box reference's first hit; through the registry too.
+TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
+    for (Ascent ascent : {Ascent::Parent, Ascent::None}) {
+        const auto tally = walk_test::contractOnAllMapsWith(
+            [=](const std::shared_ptr<const Surface>& surface) {
+                return QuadtreeTracer(
+                    surface, std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(*surface)),
+                    ascent, {0, true});
+            },
+            [](const std::shared_ptr<const Surface>& s) { return walk_test::TexelBoxReference{s}; },
+            ascent == Ascent::Parent ? 300 : 60, "quadtree box-surface=2 vs texel boxes");
+        if (ascent == Ascent::Parent) EXPECT_GE(tally.rays, 100000u);
+        EXPECT_EQ(tally.wrong, 0u);
+    }
+    const auto surface = walk_test::makeSurface({"walls", 33, 17, EdgeMode::Clamp, 0.3f});
+    auto tracer = createTracer("quadtree", surface, {{"box-surface", 2.0}});
+    ASSERT_TRUE(tracer.ok());
+    walk_test::RayMaker maker(*surface, 4);
+    const std::vector<Ray> rays = maker.all(20);
+    std::vector<Hit> hits(rays.size());
+    (*tracer)->traceBatch(rays, hits);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Hit ref = firstTexelBoxHit(*surface, rays[k]);
+        ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
+        if (ref.hit) EXPECT_NEAR(hits[k].t, ref.t, 1e-3f);
+    }
+}
+
+// The texel-box pyramid is built at load: baked (cell) maps are refused, and so is baking.
+TEST(Quadtree, TexelBoxesRefuseBakedMaps) {
+    const TechniqueInfo& info = *findTechnique("quadtree");
+    TechniqueInput input{walk_test::makeSurface({"fbm", 9, 5, EdgeMode::Clamp, 0.3f}),
+                         *resolveParams(info, {}), nullptr};
+    const auto maps = info.buildMaps(input);
+    ASSERT_TRUE(maps.ok());
+    input.params = *resolveParams(info, {{"box-surface", 2.0}});
+    EXPECT_FALSE(info.buildMaps(input).ok());
+    input.maps = &*maps;
+    EXPECT_FALSE(info.create(input).ok());
+    EXPECT_FALSE(info.check(input).ok());
+}
+
 TEST(Quadtree, EntryBelowSThroughTheWallHitsAtEntry) {
     const auto surface = walk_test::makeSurface({"flat", 40, 30, EdgeMode::Clamp, 0.5f});
     const auto tracer = quadtreeMaker(Ascent::Parent)(surface);
