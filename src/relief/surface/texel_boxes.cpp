@@ -33,6 +33,13 @@ Hit firstTexelBoxHit(const Surface& s, const Ray& ray) {
         i = std::clamp(i, 0, s.width() - 1);
         j = std::clamp(j, 0, s.height() - 1);
     }
+    const float zTolerance = floorTolerance(o.z, s.depth());
+    if (o.z + span.tEnter * d.z <= zTolerance) {  // entering through the floor (from below)
+        hit.hit = true;
+        hit.t = span.tEnter;
+        hit.position = entry;
+        return hit;
+    }
     float t = span.tEnter;
     float exitX = exitT(i, stepX, o.x, invX), exitY = exitT(j, stepY, o.y, invY);
     for (;;) {
@@ -58,12 +65,8 @@ Hit firstTexelBoxHit(const Surface& s, const Ray& ray) {
             exitY = exitT(j, stepY, o.y, invY);
         }
     }
-    // Leaving through the floor reaches z = 0 ≤ every box: a hit, even where rounding left the
-    // last column test a hair above a box of height zero (the rule of the S reference).
-    const float zExit = o.z + span.tExit * d.z;
-    const float zRounding =
-        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(o.z) + s.depth());
-    if (d.z < 0.0f && zExit <= zRounding) {
+    // Leaving through the floor (the rule of the S reference too).
+    if (d.z < 0.0f && o.z + span.tExit * d.z <= zTolerance) {
         hit.hit = true;
         hit.t = span.tExit;
         hit.position = ray.at(span.tExit);

@@ -11,11 +11,14 @@
 //   it crosses the top. Validated by brute force and by Embree on texelBoxMesh (its test).
 //   A ray through a texel corner (both edges at the same t) crosses the x edge first, as if
 //   nudged against its y direction: of the two texels beside the corner it meets the one
-//   beyond the x edge (a consistent tie rule; the walks and the brute-force test keep it).
+//   beyond the x edge (a consistent tie rule; the walks and the brute-force test keep it),
+//   except at the point where the ray leaves the relief's box, where the walk has ended.
 #include <relief/core/math.h>
 #include <relief/surface/surface.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 namespace relief {
@@ -30,6 +33,13 @@ struct TexelBoxMesh {
     std::vector<glm::uvec3> triangles;
 };
 TexelBoxMesh texelBoxMesh(const Surface& s);
+
+// A ray's z at or below this counts as on the floor z = 0 (the float rounding of o.z + t·d.z):
+// entering or leaving the box there is a hit, the floor being part of the solid, even over a
+// box of height zero that rounding leaves a hair above.
+inline float floorTolerance(float originZ, float depth) {
+    return 4.0f * std::numeric_limits<float>::epsilon() * (std::abs(originZ) + depth);
+}
 
 // First t in [t, tOut] where the ray is at or below height `top` (descending: where it crosses
 // it, clamped to the segment), or kInfinity: the box test of one texel column.

@@ -370,6 +370,8 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
     const RayInterval span = s.clip(ray);
     if (span.empty()) return Hit{};
     const WalkRay r = makeWalkRay(ray, span, s, layout);
+    if (layout.texels() && r.o.z + r.tEnter * r.d.z <= floorTolerance(r.o.z, r.depth))
+        return makeHit(ray, r.tEnter, 0, 0);  // entering through the floor, as firstTexelBoxHit
     WalkCursor c = startCursor(s, layout, r);
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : std::numeric_limits<int>::max();
     int steps = 0, fetches = 0;
