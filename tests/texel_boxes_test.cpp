@@ -1,13 +1,11 @@
 // The texel-box reference (surface/texel_boxes.h, the quadtree paper's surface) against brute
 // force (every box of a small map, ray-box slab test in double) and against Embree on the boxes'
 // triangles (rtcIntersect1), over all generators; then the box-surface walks measured against S.
-#include <support/walk_test_support.h>
-
+#include <gtest/gtest.h>
 #include <relief/embree/embree_scene.h>
 #include <relief/surface/texel_boxes.h>
 #include <relief/techniques/registry.h>
-
-#include <gtest/gtest.h>
+#include <support/walk_test_support.h>
 
 #include <algorithm>
 #include <cmath>
@@ -65,9 +63,9 @@ Hit bruteForce(const Surface& s, const Ray& ray, bool& tooLong) {
             if (clamp && (i < 0 || j < 0 || i >= s.width() || j >= s.height())) continue;
             // The floor a hair lower: a ray entering through it (from below) meets a box of
             // height zero at a point the float entry t may round past.
-            const double t = slabEnter(ray, {i, j, -1e-6 * std::max(1.0f, s.depth())},
-                                       {i + 1, j + 1, double(s.sampleZ(i, j))}, span.tEnter,
-                                       span.tExit);
+            const double t =
+                slabEnter(ray, {i, j, -1e-6 * std::max(1.0f, s.depth())},
+                          {i + 1, j + 1, double(s.sampleZ(i, j))}, span.tEnter, span.tExit);
             best = std::min(best, t);
         }
     // The floor is the solid's bottom face: a rising ray from below meets it at z = 0.
@@ -104,14 +102,16 @@ TEST(TexelBoxes, MatchBruteForce) {
             const Hit ref = firstTexelBoxHit(*surface, ray);
             ++rays;
             hits += ref.hit;
-            ASSERT_EQ(ref.hit, brute.hit) << walk_test::describe(m) << " " << walk_test::describe(ray);
+            ASSERT_EQ(ref.hit, brute.hit)
+                << walk_test::describe(m) << " " << walk_test::describe(ray);
             if (ref.hit)
                 ASSERT_NEAR(ref.t, brute.t, 1e-3 * std::max(1.0f, brute.t * 1e-3f))
                     << walk_test::describe(m) << " " << walk_test::describe(ray);
         }
     }
-    std::printf("[ texel boxes vs brute force ] %zu rays (%zu hits), %zu long repeat rays skipped\n",
-                rays, hits, skipped);
+    std::printf(
+        "[ texel boxes vs brute force ] %zu rays (%zu hits), %zu long repeat rays skipped\n", rays,
+        hits, skipped);
     EXPECT_GE(rays, 100000u);
 }
 
@@ -119,7 +119,8 @@ TEST(TexelBoxes, MatchBruteForce) {
 // one-texel walls, isolated spikes, cliffs), clamp mode (Embree needs a finite mesh).
 std::vector<MapSpec> embreeMaps() {
     std::vector<MapSpec> maps;
-    const char* generators[] = {"sine", "peaks6", "fbm", "walls", "spikes", "terraces", "ramp", "flat"};
+    const char* generators[] = {"sine",   "peaks6",   "fbm",  "walls",
+                                "spikes", "terraces", "ramp", "flat"};
     int k = 0;
     for (const char* g : generators)
         for (const auto [w, h] : {std::pair{33, 17}, std::pair{61, 64}, std::pair{5, 7}})
@@ -173,16 +174,18 @@ TEST(TexelBoxes, MatchEmbreeOnTheBoxTriangles) {
             const Hit ref = firstTexelBoxHit(*surface, batch[k]);
             ++rays;
             hits += ref.hit;
-            const bool same = ref.hit == peer[k].hit && (!ref.hit || std::abs(ref.t - peer[k].t) <= 1e-3f);
+            const bool same =
+                ref.hit == peer[k].hit && (!ref.hit || std::abs(ref.t - peer[k].t) <= 1e-3f);
             if (!same && ++wrong <= 5)
                 ADD_FAILURE() << walk_test::describe(m) << " " << walk_test::describe(batch[k])
                               << " reference " << ref.hit << " t=" << ref.t << ", Embree "
                               << peer[k].hit << " t=" << peer[k].t;
         }
     }
-    std::printf("[ texel boxes vs Embree ] %zu rays (%zu hits), %zu wrong; skipped: %zu inside a "
-                "box, %zu through a texel corner\n",
-                rays, hits, wrong, inside, corners);
+    std::printf(
+        "[ texel boxes vs Embree ] %zu rays (%zu hits), %zu wrong; skipped: %zu inside a "
+        "box, %zu through a texel corner\n",
+        rays, hits, wrong, inside, corners);
     EXPECT_GE(rays, 100000u);
     EXPECT_EQ(wrong, 0u);
 }
@@ -220,10 +223,11 @@ TEST(TexelBoxes, MeasuredAgainstS) {
                     maxDt = std::max(maxDt, dt);
                 }
             }
-            std::printf("[ %s %s vs S ] %zu rays: hit/miss differs on %zu (%.2f %%); "
-                        "both hit %zu: mean |dt| %.3f, max %.1f texels\n",
-                        name, params, rays, disagree, 100.0 * double(disagree) / double(rays), both,
-                        sumDt / double(std::max<size_t>(both, 1)), maxDt);
+            std::printf(
+                "[ %s %s vs S ] %zu rays: hit/miss differs on %zu (%.2f %%); "
+                "both hit %zu: mean |dt| %.3f, max %.1f texels\n",
+                name, params, rays, disagree, 100.0 * double(disagree) / double(rays), both,
+                sumDt / double(std::max<size_t>(both, 1)), maxDt);
             EXPECT_GT(rays, 20000u);
         }
     }

@@ -86,7 +86,6 @@ constexpr ShaderSampler kSafetySdSamplers[] = {{"heights", ""}, {"sd", "sd"}};
 
 // Parameter sets that take the GLSL down another path (encodings, policies, variants).
 constexpr PathCase kQuadtreePathCases[] = {{"ascend=0"}, {"max-steps=6"}};
-constexpr PathCase kMaxmipPathCases[] = {{"box-surface=1"}};
 constexpr PathCase kConePathCases[] = {{"bits=16,sqrt=1"}, {"bits=8,variant=1"}};
 constexpr PathCase kRelaxedConePathCases[] = {{"bits=16,binary-steps=4"}};
 constexpr PathCase kQdmPathCases[] = {
@@ -363,7 +362,7 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
      .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants,
-     .variants = kMaxmipVariants, .pathCases = kMaxmipPathCases, .mapChannels = kPyramidChannels,
+     .variants = kMaxmipVariants, .mapChannels = kPyramidChannels,
      .shaderFile = "maxmip.glsl", .shaderFunction = "reliefMaxmip",
      .shaderSamplers = kPyramidSamplers},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",

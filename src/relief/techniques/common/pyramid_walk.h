@@ -98,7 +98,7 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
                            const PyramidLayout& layout) {
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
-    // Texel boxes: the bound of a level-0 node is the box itself, exact, and max is exact: no slack.
+    // Texel boxes: a level-0 node's bound is its box, and max is exact: no slack.
     const float extent = layout.texels() ? 0.0f
                                          : std::abs(o.x) + std::abs(o.y) + std::abs(o.z) +
                                                span.tExit + s.depth();

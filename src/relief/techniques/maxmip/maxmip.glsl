@@ -6,5 +6,6 @@
 float boundEnter(NodeBox b, WalkRay r, float t, float tOut) { return maxBoundEnter(b, r, t, tOut); }
 
 Hit trace(Ray ray) {
-    return walkPyramid(kAscentAncestor, ray, WalkLimits(paramInt(kParamMaxSteps), paramInt(kParamBoxSurface) != 0));
+    const WalkLimits limits = WalkLimits(paramInt(kParamMaxSteps), paramInt(kParamBoxSurface) != 0);
+    return walkPyramid(kAscentAncestor, ray, limits);
 }
