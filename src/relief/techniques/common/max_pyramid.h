@@ -89,7 +89,8 @@ class MaxPyramid {
 public:
     explicit MaxPyramid(const Surface& surface);
     // The texel-box pyramid (layout ofTexels): level 0 holds each sample's height D·h, the
-    // box's top, so a node's value is the maximum of the boxes it covers (not baked).
+    // box's top, so a node's value is the maximum of the boxes it covers (baked with the
+    // parameter box-surface = 2 recorded).
     static MaxPyramid overTexels(const Surface& surface);
     MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout);
     MaxPyramid(MaxPyramid&&) = default;  // level pointers stay valid: the buffer moves along
@@ -110,7 +111,8 @@ public:
     Status spotCheck(const Surface& surface, const std::string& technique) const;
     // From those arrays; an error naming the array when one is missing or has the wrong size,
     // or when spotCheck fails.
-    static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps);
+    static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps,
+                                         bool texels = false);  // texels: layout ofTexels
 
 private:
     explicit MaxPyramid(const PyramidLayout& layout);  // levels allocated, not built
@@ -128,7 +130,7 @@ private:
 };
 
 // The pyramid to trace with: from input.maps (checked) or built now (max_pyramid_maps.cpp);
-// with box-surface = 2 the texel-box one, always built now (input.maps: an error).
+// with box-surface = 2 the texel-box one (maps baked with box-surface = 2 only, and back).
 struct TechniqueInput;
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input);
 // input's pyramid as the baked maps of `technique` ("quadtree", "maxmip").

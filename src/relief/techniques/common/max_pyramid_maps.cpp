@@ -14,6 +14,10 @@ std::string levelName(int level) { return "level" + std::to_string(level); }
 bool usesTexelBoxes(const TechniqueInput& input) {
     return input.params.has("box-surface") && input.params.getInt("box-surface") == 2;
 }
+bool bakedOverTexels(const TechniqueMaps& maps) {
+    const auto it = maps.parameters.find("box-surface");
+    return it != maps.parameters.end() && it->second == "2";
+}
 }  // namespace
 
 MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
@@ -40,8 +44,9 @@ std::vector<MapArray> MaxPyramid::toArrays() const {
     return arrays;
 }
 
-Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps) {
-    const PyramidLayout layout = PyramidLayout::of(surface);
+Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps,
+                                          bool texels) {
+    const PyramidLayout layout = texels ? PyramidLayout::ofTexels(surface) : PyramidLayout::of(surface);
     MaxPyramid pyramid(layout);
     for (int level = 0; level < layout.levels; ++level) {
         const std::string name = levelName(level);
@@ -49,9 +54,10 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
         const int w = layout.widthAt(level), h = layout.heightAt(level);
         if (!a)
             return makeError(ErrorKind::InvalidInput,
-                             "{} maps: no array '{}' (a {}-level max pyramid over {}×{} {} cells "
+                             "{} maps: no array '{}' (a {}-level max pyramid over {}×{} {} {} "
                              "expected)", maps.technique, name, layout.levels, layout.cellsX,
-                             layout.cellsY, surface.edge() == EdgeMode::Repeat ? "repeat" : "clamp");
+                             layout.cellsY, surface.edge() == EdgeMode::Repeat ? "repeat" : "clamp",
+                             texels ? "texels" : "cells");
         if (a->width != w || a->height != h || a->channels != 1 ||
             a->data.size() != size_t(w) * size_t(h))
             return makeError(ErrorKind::InvalidInput,
@@ -95,9 +101,17 @@ Status MaxPyramid::spotCheck(const Surface& surface, const std::string& techniqu
                     return refuse(level, x, y, at(level, x, y), expected);
             }
     }
-    const VertexGrid vertices(surface);
     const size_t count = size_t(m_layout.cellsX) * size_t(m_layout.cellsY);
     const size_t stride = std::max<size_t>(1, count / 4096);
+    if (m_layout.texels()) {  // level 0 holds the samples
+        for (size_t k = stride / 2; k < count; k += stride) {
+            const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
+            if (at(0, x, y) != surface.sampleZ(x, y))
+                return refuse(0, x, y, at(0, x, y), surface.sampleZ(x, y));
+        }
+        return {};
+    }
+    const VertexGrid vertices(surface);
     for (size_t k = stride / 2; k < count; k += stride) {
         const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
         const float expected = std::max(std::max(vertices.at(x, y), vertices.at(x + 1, y)),
@@ -108,12 +122,18 @@ Status MaxPyramid::spotCheck(const Surface& surface, const std::string& techniqu
 }
 
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {
-    if (usesTexelBoxes(input)) {
-        if (input.maps)
-            return makeError(ErrorKind::Unsupported,
-                             "--maps with box-surface=2: the texel-box pyramid is built at load "
-                             "(the baked pyramid is the cells')");
+    const bool texels = usesTexelBoxes(input);
+    if (input.maps && bakedOverTexels(*input.maps) != texels)
+        return makeError(ErrorKind::InvalidInput,
+                         "{} maps: baked {} box-surface=2, traced {} it: bake them with the same "
+                         "box-surface", input.maps->technique,
+                         texels ? "without" : "with", texels ? "with" : "without");
+    if (texels && !input.maps)
         return std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(*input.surface));
+    if (texels) {
+        auto pyramid = MaxPyramid::fromArrays(*input.surface, *input.maps, true);
+        if (!pyramid) return pyramid.error();
+        return std::make_shared<const MaxPyramid>(std::move(*pyramid));
     }
     if (!input.maps) return std::make_shared<const MaxPyramid>(*input.surface);
     auto pyramid = MaxPyramid::fromArrays(*input.surface, *input.maps);
@@ -122,11 +142,13 @@ Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& in
 }
 
 Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_view technique) {
-    if (usesTexelBoxes(input))
-        return makeError(ErrorKind::Unsupported, "{}: box-surface=2 has no baked maps (its "
-                                                 "texel-box pyramid is built at load)", technique);
     TechniqueMaps maps;
     maps.technique = std::string(technique);
+    if (usesTexelBoxes(input)) {  // recorded: the arrays are the texels' pyramid
+        maps.parameters["box-surface"] = "2";
+        maps.arrays = MaxPyramid::overTexels(*input.surface).toArrays();
+        return maps;
+    }
     maps.arrays = MaxPyramid(*input.surface).toArrays();
     return maps;
 }

@@ -17,7 +17,7 @@
 //     finishes with the exact cell test. `box-surface` = 1 stops at level 0 on those cell boxes
 //     (the paper's stop, not its surface); `box-surface` = 2 is the paper's surface: the texel
 //     pyramid (sample heights, texel (i, j) = [i, i+1] × [j, j+1] centred on its sample), its
-//     level-0 box the hit (CPU only, built at load: the baked pyramid is the cells').
+//     level-0 box the hit (CPU only; baked maps record box-surface = 2).
 //   - The paper never goes up (ascend = 0, its Algorithm 1 verbatim). Once the exact cell test
 //     can fail, that walks on cell by cell; the default (ascend = 1) goes up one level when the
 //     neighbour lies in another parent, still jumping to neighbours rather than to the common

@@ -88,18 +88,33 @@ TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
     }
 }
 
-// The texel-box pyramid is built at load: baked (cell) maps are refused, and so is baking.
-TEST(Quadtree, TexelBoxesRefuseBakedMaps) {
+// Baked with box-surface = 2 (recorded), the maps are the texel pyramid: they trace as the one
+// built at load, and maps baked with and traced without it (or the other way) are refused.
+TEST(Quadtree, TexelBoxesBakedMaps) {
     const TechniqueInfo& info = *findTechnique("quadtree");
-    TechniqueInput input{walk_test::makeSurface({"fbm", 9, 5, EdgeMode::Clamp, 0.3f}),
-                         *resolveParams(info, {}), nullptr};
-    const auto maps = info.buildMaps(input);
-    ASSERT_TRUE(maps.ok());
-    input.params = *resolveParams(info, {{"box-surface", 2.0}});
-    EXPECT_FALSE(info.buildMaps(input).ok());
-    input.maps = &*maps;
-    EXPECT_FALSE(info.create(input).ok());
-    EXPECT_FALSE(info.check(input).ok());
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const auto surface = walk_test::makeSurface({"walls", 9, 5, edge, 0.3f});
+        const ParamValues cells = *resolveParams(info, {});
+        const ParamValues texels = *resolveParams(info, {{"box-surface", 2.0}});
+        const auto cellMaps = info.buildMaps(TechniqueInput{surface, cells, nullptr});
+        const auto texelMaps = info.buildMaps(TechniqueInput{surface, texels, nullptr});
+        ASSERT_TRUE(cellMaps.ok() && texelMaps.ok());
+        EXPECT_EQ(texelMaps->parameters.at("box-surface"), "2");
+        EXPECT_FALSE(info.check(TechniqueInput{surface, texels, &*cellMaps}).ok());
+        EXPECT_FALSE(info.check(TechniqueInput{surface, cells, &*texelMaps}).ok());
+        EXPECT_FALSE(info.create(TechniqueInput{surface, cells, &*texelMaps}).ok());
+        auto baked = info.create(TechniqueInput{surface, texels, &*texelMaps});
+        ASSERT_TRUE(baked.ok()) << baked.error().message;
+        walk_test::RayMaker maker(*surface, 8);
+        const std::vector<Ray> rays = maker.all(20);
+        std::vector<Hit> hits(rays.size());
+        (*baked)->traceBatch(rays, hits);
+        for (size_t k = 0; k < rays.size(); ++k) {
+            const Hit ref = firstTexelBoxHit(*surface, rays[k]);
+            ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
+            if (ref.hit) EXPECT_EQ(hits[k].t, ref.t);
+        }
+    }
 }
 
 TEST(Quadtree, EntryBelowSThroughTheWallHitsAtEntry) {
