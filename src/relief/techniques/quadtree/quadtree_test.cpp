@@ -59,6 +59,19 @@ TEST(Quadtree, BoxSurfaceIsNeverBehindS) {
     }
 }
 
+// A registry tracer on box-surface = 2 against the texel-box reference, ray by ray.
+void expectTexelBoxHits(const Tracer& tracer, const Surface& surface, uint32_t seed) {
+    walk_test::RayMaker maker(surface, seed);
+    const std::vector<Ray> rays = maker.all(20);
+    std::vector<Hit> hits(rays.size());
+    tracer.traceBatch(rays, hits);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Hit ref = firstTexelBoxHit(surface, rays[k]);
+        ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
+        if (ref.hit) EXPECT_EQ(hits[k].t, ref.t);
+    }
+}
+
 // box-surface = 2, the paper's surface: the walk over the texel-box pyramid (both ascents) is
 // the texel-box reference's first hit; through the registry too.
 TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
@@ -77,15 +90,7 @@ TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
     const auto surface = walk_test::makeSurface({"walls", 33, 17, EdgeMode::Clamp, 0.3f});
     auto tracer = createTracer("quadtree", surface, {{"box-surface", 2.0}});
     ASSERT_TRUE(tracer.ok());
-    walk_test::RayMaker maker(*surface, 4);
-    const std::vector<Ray> rays = maker.all(20);
-    std::vector<Hit> hits(rays.size());
-    (*tracer)->traceBatch(rays, hits);
-    for (size_t k = 0; k < rays.size(); ++k) {
-        const Hit ref = firstTexelBoxHit(*surface, rays[k]);
-        ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
-        if (ref.hit) EXPECT_NEAR(hits[k].t, ref.t, 1e-3f);
-    }
+    expectTexelBoxHits(**tracer, *surface, 4);
 }
 
 // Baked with box-surface = 2 (recorded), the maps are the texel pyramid: they trace as the one
@@ -105,15 +110,7 @@ TEST(Quadtree, TexelBoxesBakedMaps) {
         EXPECT_FALSE(info.create(TechniqueInput{surface, cells, &*texelMaps}).ok());
         auto baked = info.create(TechniqueInput{surface, texels, &*texelMaps});
         ASSERT_TRUE(baked.ok()) << baked.error().message;
-        walk_test::RayMaker maker(*surface, 8);
-        const std::vector<Ray> rays = maker.all(20);
-        std::vector<Hit> hits(rays.size());
-        (*baked)->traceBatch(rays, hits);
-        for (size_t k = 0; k < rays.size(); ++k) {
-            const Hit ref = firstTexelBoxHit(*surface, rays[k]);
-            ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
-            if (ref.hit) EXPECT_EQ(hits[k].t, ref.t);
-        }
+        expectTexelBoxHits(**baked, *surface, 8);
     }
 }
 
