@@ -3,7 +3,8 @@
 // walk jumping to the neighbour node; p.ascend = 1 (relief's default) goes up one level on
 // entering a new parent, 0 is the paper's walk. Maps: `heights` and `pyramid`
 // (pyramid_walk.glsl). Contract: exact with p.maxSteps = 0; N > 0 (the paper's fixed loop) is
-// approximate. The paper's box surface (box-surface = 1) is not offered here.
+// approximate. The box surfaces (box-surface = 1 cell boxes, 2 the paper's texel boxes) are not
+// offered here.
 // Shadows: the same walk toward the light.
 // requires: pyramid_walk.glsl
 

@@ -102,6 +102,22 @@ TEST(GlContext, TechniqueWithoutGlslIsAClearError) {
     EXPECT_NE(tracer.error().message.find("no GLSL tracer"), std::string::npos);
 }
 
+// A CPU-only variant (VariantSpec::cpuOnly: quadtree's and maxmip's texel boxes) is refused,
+// not traced with the GLSL's cell walk.
+TEST(GlContext, CpuOnlyVariantIsRefused) {
+    RELIEF_REQUIRE_GL();
+    auto surface = testing::generatedSurface("fbm", 8, 8, 0.1f, EdgeMode::Clamp);
+    for (const char* name : {"quadtree", "maxmip"}) {
+        const TechniqueInfo& info = *findTechnique(name);
+        const auto params = resolveParams(info, {{"box-surface", 2}});
+        auto tracer = createGlTracer(info, TechniqueInput{surface, *params});
+        ASSERT_FALSE(tracer) << name;
+        EXPECT_EQ(tracer.error().kind, ErrorKind::Unsupported) << name;
+        EXPECT_NE(tracer.error().message.find("CPU only"), std::string::npos)
+            << tracer.error().message;
+    }
+}
+
 TEST(GlContext, BadParametersAreRefusedLikeOnTheCpu) {
     RELIEF_REQUIRE_GL();
     const TechniqueInfo& info = *findTechnique("exact");

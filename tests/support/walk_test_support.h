@@ -3,6 +3,8 @@
 // families and the comparison with the reference `exact` (DESIGN §3, contract "exact").
 #include <support/reference_tracer.h>
 
+#include <relief/surface/texel_boxes.h>
+
 #include <gtest/gtest.h>
 #include <relief/core/generators.h>
 
@@ -225,14 +227,19 @@ struct Tally {
     int64_t steps = 0;
 };
 
-// Traces `rays` with `tracer` and the reference; counts wrong hits (hit/miss differs, or
+// The texel-box reference (surface/texel_boxes.h), for the box-surface = 2 walks.
+struct TexelBoxReference {
+    std::shared_ptr<const Surface> surface;
+    Hit trace(const Ray& ray) const { return firstTexelBoxHit(*surface, ray); }
+};
+
+// Traces `rays` with `tracer` and `reference`; counts wrong hits (hit/miss differs, or
 // |Δt| > 1e-3) and reports the first few.
-template <class Impl>
-void compareWithExact(const Impl& tracer, const std::shared_ptr<const Surface>& surface,
-                      const std::vector<Ray>& rays, const std::string& what, Tally& tally) {
-    const testing::ReferenceTracer exact(surface);
+template <class Impl, class Reference>
+void compareWith(const Impl& tracer, const Reference& reference, const std::vector<Ray>& rays,
+                 const std::string& what, Tally& tally) {
     for (const Ray& ray : rays) {
-        const Hit ref = exact.trace(ray);
+        const Hit ref = reference.trace(ray);
         const Hit got = tracer.trace(ray);
         ++tally.rays;
         tally.steps += got.steps;
@@ -241,9 +248,16 @@ void compareWithExact(const Impl& tracer, const std::shared_ptr<const Surface>& 
         tally.maxError = std::max(tally.maxError, error);
         if (ref.hit == got.hit && error <= 1e-3) continue;
         if (++tally.wrong <= 5)
-            ADD_FAILURE() << what << ": " << describe(ray) << " exact " << ref.hit << " t=" << ref.t
-                          << ", got " << got.hit << " t=" << got.t;
+            ADD_FAILURE() << what << ": " << describe(ray) << " reference " << ref.hit
+                          << " t=" << ref.t << ", got " << got.hit << " t=" << got.t;
     }
+}
+
+// compareWith the reference `exact` (S).
+template <class Impl>
+void compareWithExact(const Impl& tracer, const std::shared_ptr<const Surface>& surface,
+                      const std::vector<Ray>& rays, const std::string& what, Tally& tally) {
+    compareWith(tracer, testing::ReferenceTracer(surface), rays, what, tally);
 }
 
 }  // namespace relief::walk_test
@@ -251,21 +265,32 @@ void compareWithExact(const Impl& tracer, const std::shared_ptr<const Surface>& 
 namespace relief::walk_test {
 
 // Traces `perFamily` rays of every family on every contract map with the tracer made by
-// `make(surface)`, against the reference. Returns the totals (wrong hits are test failures).
-template <class Make>
-Tally contractOnAllMaps(Make make, int perFamily, const std::string& what) {
+// `make(surface)`, against `makeReference(surface)`. Returns the totals (wrong hits are test
+// failures).
+template <class Make, class MakeReference>
+Tally contractOnAllMapsWith(Make make, MakeReference makeReference, int perFamily,
+                            const std::string& what) {
     Tally tally;
     uint32_t seed = 11;
     for (const MapSpec& m : contractMaps()) {
         const auto surface = makeSurface(m, seed);
         const auto tracer = make(surface);
         RayMaker maker(*surface, seed++);
-        compareWithExact(tracer, surface, maker.all(perFamily), what + " on " + describe(m), tally);
+        compareWith(tracer, makeReference(surface), maker.all(perFamily),
+                    what + " on " + describe(m), tally);
     }
     std::printf("[ %s ] %zu rays (%zu reference hits), %zu wrong, max |dt| %.2g, %.1f steps/ray\n",
                 what.c_str(), tally.rays, tally.hits, tally.wrong, tally.maxError,
                 double(tally.steps) / double(std::max<size_t>(tally.rays, 1)));
     return tally;
+}
+
+// contractOnAllMapsWith the reference `exact` (S).
+template <class Make>
+Tally contractOnAllMaps(Make make, int perFamily, const std::string& what) {
+    return contractOnAllMapsWith(
+        make, [](const std::shared_ptr<const Surface>& s) { return testing::ReferenceTracer(s); },
+        perFamily, what);
 }
 
 // A capped walk stops at a cursor that never passed the first hit (the walk is conservative).

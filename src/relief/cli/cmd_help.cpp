@@ -132,9 +132,11 @@ void addHelpCommand(CLI::App& app) {
                                          p.name, p.defaultValue, p.minValue, p.maxValue,
                                          toString(p.role), p.help);
             for (const VariantSpec& v : info.variants)
-                std::cout << fmt::format("  {:<18}   variant {} ({}): {}, {}{}\n", "", v.label,
-                                         v.params, toString(v.contract), v.summary,
-                                         v.clampOnly ? " (clamp mode only)" : "");
+                std::cout << fmt::format(
+                    "  {:<18}   variant {} ({}): {}, {}{}{}{}\n", "", v.label, v.params,
+                    toString(v.contract), v.summary,
+                    v.exactOn.empty() ? "" : fmt::format(" (exact on {})", v.exactOn),
+                    v.clampOnly ? " (clamp mode only)" : "", v.cpuOnly ? " (CPU only)" : "");
             if (!info.shaderFunction.empty())
                 std::cout << fmt::format("  {:<18}   shader function {} (shaders/relief/{})\n", "",
                                          info.shaderFunction, info.shaderFile);

@@ -63,7 +63,10 @@ TriangleMesh buildSolidMesh(const Surface& s) {
 Result<unsigned> attachSolidMesh(RTCScene scene, const Surface& surface, size_t* triangles) {
     if (surface.edge() != EdgeMode::Clamp)
         return makeError(ErrorKind::Unsupported, "Embree peer: only clamp edge mode has a finite mesh");
-    const TriangleMesh mesh = buildSolidMesh(surface);
+    return attachMesh(scene, buildSolidMesh(surface), triangles);
+}
+
+Result<unsigned> attachMesh(RTCScene scene, const TriangleMesh& mesh, size_t* triangles) {
     RTCDevice device = rtcGetSceneDevice(scene);  // retained: released below
     RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     rtcReleaseDevice(device);
@@ -119,6 +122,14 @@ Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const Surface& surface)
     auto self = withScene();
     if (!self) return self.error();
     if (auto id = attachSolidMesh((*self)->m_scene, surface, &(*self)->m_triangleCount); !id) return id.error();
+    (*self)->commit();
+    return self;
+}
+
+Result<std::unique_ptr<EmbreeScene>> EmbreeScene::create(const TriangleMesh& mesh) {
+    auto self = withScene();
+    if (!self) return self.error();
+    if (auto id = attachMesh((*self)->m_scene, mesh, &(*self)->m_triangleCount); !id) return id.error();
     (*self)->commit();
     return self;
 }

@@ -28,6 +28,8 @@ TriangleMesh buildSolidMesh(const Surface& surface);
 // Attaches buildSolidMesh(surface) to `scene` as one triangle geometry (not committed); its geomID,
 // and its triangle count in `triangles` when given.
 Result<unsigned> attachSolidMesh(RTCScene scene, const Surface& surface, size_t* triangles = nullptr);
+// Attaches any mesh the same way (e.g. the texel boxes' faces, surface/texel_boxes.h).
+Result<unsigned> attachMesh(RTCScene scene, const TriangleMesh& mesh, size_t* triangles = nullptr);
 
 // Counts the bytes a device holds (Embree reports every allocation and free to a monitor): the
 // BVH, the geometry buffers and Embree's own bookkeeping.
@@ -44,6 +46,8 @@ private:
 class EmbreeScene {
 public:
     static Result<std::unique_ptr<EmbreeScene>> create(const Surface& surface);
+    // Any triangle mesh (a surface other than S, e.g. the texel boxes).
+    static Result<std::unique_ptr<EmbreeScene>> create(const TriangleMesh& mesh);
     // The heightfield as one user geometry over `tracer` (embree::attachTracer) instead of triangles.
     static Result<std::unique_ptr<EmbreeScene>> createUserGeometry(std::shared_ptr<const Surface> surface,
                                                                    std::shared_ptr<const Tracer> tracer);

@@ -61,6 +61,11 @@ public:
                              "technique '{}' has no GLSL tracer (its registry row has no glsl)",
                              info.name);
         if (!input.surface) return makeError(ErrorKind::BadArgument, "GL backend: no surface");
+        if (const VariantSpec* variant = variantOf(info, input.params); variant && variant->cpuOnly)
+            return makeError(ErrorKind::Unsupported,
+                             "technique '{}': variant {} ({}) runs on the CPU only (its GLSL "
+                             "has no such form)",
+                             info.name, variant->label, variant->params);
         // What the row's create would refuse (input.params are resolved already).
         if (info.check)
             if (Status status = info.check(input); !status) return status.error();

@@ -29,7 +29,13 @@ namespace {
 // Forms whose contract differs from the row's, or that a paper's claim is judged with.
 constexpr VariantSpec kQuadtreeVariants[] = {
     {"paper-walk", "ascend=0", Contract::Exact, "the paper's walk: stay at the level after a jump"},
-    {"paper-surface", "box-surface=1", Contract::Approximate, "stops at the first level-0 node reached"},
+    {"cell-boxes", "box-surface=1", Contract::Approximate, "cell boxes at the corner maximum: stops at the first level-0 node"},
+    {"paper-surface", "box-surface=2", Contract::Approximate, "the paper's texel boxes at the sample height",
+     false, true, "texel boxes (surface/texel_boxes.h)"},
+};
+constexpr VariantSpec kMaxmipVariants[] = {
+    {"paper-surface", "box-surface=2", Contract::Approximate, "texel boxes at the sample height (as quadtree's)",
+     false, true, "texel boxes (surface/texel_boxes.h)"},
 };
 constexpr VariantSpec kConeVariants[] = {
     {"safe", "variant=0", Contract::Conservative, "footprint-frustum cones, exact cell finish"},
@@ -364,7 +370,7 @@ static const TechniqueInfo kTechniques[] = {
      .contract = Contract::Exact, .params = kMaxmipParams, .create = createMaxmip,
      .buildMaps = buildMaxmipMaps, .mapBytesPerTexel = 16, .check = checkMaps<maxPyramidFor>,
      .glsl = "maxmip/maxmip.glsl", .glslConstants = kPyramidWalkGlslConstants,
-     .pathCases = kMaxmipPathCases, .mapChannels = kPyramidChannels,
+     .variants = kMaxmipVariants, .pathCases = kMaxmipPathCases, .mapChannels = kPyramidChannels,
      .shaderFile = "maxmip.glsl", .shaderFunction = "reliefMaxmip",
      .shaderSamplers = kPyramidSamplers},
     {.name = "quadtree-oriented", .paper = "Schroders & van Gulik 2006 §5 (oriented quadtree)",

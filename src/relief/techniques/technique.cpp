@@ -174,19 +174,21 @@ Result<std::vector<std::pair<std::string, double>>> parseParamList(std::string_v
     return values;
 }
 
-Contract contractOf(const TechniqueInfo& info, const ParamValues& params) {
-    Contract contract = info.contract;
+const VariantSpec* variantOf(const TechniqueInfo& info, const ParamValues& params) {
     for (const VariantSpec& variant : info.variants) {
         const auto wanted = parseParamList(variant.params);
         RELIEF_CHECK(wanted.ok());  // rows are checked by RegistryTest
         bool matches = true;
         for (const auto& [name, value] : *wanted)
             matches = matches && params.has(name) && params.get(name) == value;
-        if (matches) {
-            contract = variant.contract;
-            break;
-        }
+        if (matches) return &variant;
     }
+    return nullptr;
+}
+
+Contract contractOf(const TechniqueInfo& info, const ParamValues& params) {
+    const VariantSpec* variant = variantOf(info, params);
+    const Contract contract = variant ? variant->contract : info.contract;
     // An exact walk stopped after N iterations (where 0 means no cap) promises nothing.
     const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap);
     if (contract == Contract::Exact && cap && cap->defaultValue == 0 && params.has(cap->name) &&

@@ -54,6 +54,9 @@ struct VariantSpec {
     Contract contract;
     std::string_view summary;
     bool clampOnly = false;  // exists in clamp mode only (e.g. exterior rays: a finite box)
+    bool cpuOnly = false;    // the row's GLSL lacks this form: the GL backend refuses it
+    // The surface it is exact on when that is not S (`contract` is its contract against S).
+    std::string_view exactOn = {};
 };
 
 // A parameter set that takes the tracer down another path (an encoding, a policy, a variant):
@@ -269,5 +272,7 @@ Result<std::vector<std::pair<std::string, double>>> parseParamList(std::string_v
 // The contract these (resolved) parameters keep: the first variant whose parameters they match,
 // else the row's; an exact row with its iteration cap set (where 0 means none) is approximate.
 Contract contractOf(const TechniqueInfo& info, const ParamValues& params);
+// The first variant whose parameters these (resolved) parameters match, or null.
+const VariantSpec* variantOf(const TechniqueInfo& info, const ParamValues& params);
 
 }  // namespace relief

@@ -18,6 +18,16 @@ PyramidLayout PyramidLayout::of(const Surface& surface) {
     return layout;
 }
 
+PyramidLayout PyramidLayout::ofTexels(const Surface& surface) {
+    PyramidLayout layout = of(surface);
+    layout.firstCell = 0;
+    layout.cellsX = surface.width();
+    layout.cellsY = surface.height();
+    layout.levels = int(std::bit_width(unsigned(std::max(layout.cellsX, layout.cellsY) - 1))) + 1;
+    layout.edge = 0.0f;
+    return layout;
+}
+
 size_t PyramidLayout::nodeCount() const {
     size_t count = 0;
     for (int level = 0; level < levels; ++level) count += size_t(widthAt(level)) * heightAt(level);
@@ -44,6 +54,18 @@ MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout)
     : MaxPyramid(layout) {  // the allocation, max_pyramid_maps.cpp
     buildFinest(vertices);
     for (int level = 1; level < layout.levels; ++level) buildCoarser(level);
+}
+
+MaxPyramid MaxPyramid::overTexels(const Surface& surface) {
+    MaxPyramid pyramid(PyramidLayout::ofTexels(surface));
+    const Level& out = pyramid.m_levels[0];
+    parallelRanges(surface.height(), 16, [&](int64_t begin, int64_t end) {
+        for (int j = int(begin); j < int(end); ++j)
+            for (int i = 0; i < surface.width(); ++i)
+                out.values[out.index(i, j)] = surface.sampleZ(i, j);
+    });
+    for (int level = 1; level < pyramid.m_layout.levels; ++level) pyramid.buildCoarser(level);
+    return pyramid;
 }
 
 void MaxPyramid::buildFinest(const VertexGrid& vertices) {

@@ -6,6 +6,7 @@
 //   covers, hence ≥ S everywhere over the node (S is the max of two planes through those
 //   corners, so over a cell it never exceeds its highest corner), and it equals the max of S
 //   over the node.
+// The same pyramid over texel boxes (overTexels, `box-surface=2`): level 0 = the box tops.
 // Layout (level 0 = one value per cell, level L+1 = max of 2×2 nodes of level L):
 //   - pyramid index k of level 0 is the cell `firstCell + k`; clamp: cells -1..W-1 (W+1 cells,
 //     the half-texel border strips included, firstCell = -1); repeat: cells 0..W-1 (W cells).
@@ -44,8 +45,13 @@ struct PyramidLayout {
     int firstCell = 0;           // global cell index of pyramid index 0: -1 clamp, 0 repeat
     int levels = 0;              // the top level (levels - 1) is 1×1
     bool repeat = false;
+    // Where index k's edges lie: k + edge and k + 1 + edge. Cells 0.5; texel boxes 0 (ofTexels).
+    float edge = 0.5f;
 
     static PyramidLayout of(const Surface& surface);
+    // Over the W×H texels instead (surface/texel_boxes.h): index k is texel k, firstCell 0.
+    static PyramidLayout ofTexels(const Surface& surface);
+    bool texels() const { return edge == 0.0f; }
     int widthAt(int level) const { return ((cellsX - 1) >> level) + 1; }
     int heightAt(int level) const { return ((cellsY - 1) >> level) + 1; }
     int topLevel() const { return levels - 1; }
@@ -87,6 +93,10 @@ private:
 class MaxPyramid {
 public:
     explicit MaxPyramid(const Surface& surface);
+    // The texel-box pyramid (layout ofTexels): level 0 holds each sample's height D·h, the
+    // box's top, so a node's value is the maximum of the boxes it covers (baked with the
+    // parameter box-surface = 2 recorded).
+    static MaxPyramid overTexels(const Surface& surface);
     MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout);
     MaxPyramid(MaxPyramid&&) = default;  // level pointers stay valid: the buffer moves along
     MaxPyramid(const MaxPyramid&) = delete;
@@ -109,9 +119,9 @@ public:
     // Nodes against their children and sampled level-0 cells against `surface` (fromArrays).
     Status spotCheck(const Surface& surface, const std::string& technique, int bits) const;
     // From those arrays, decoded; an error naming the array when one is missing or has the wrong
-    // size, or when spotCheck fails.
+    // size, or when spotCheck fails. texels: the layout ofTexels (box-surface = 2, bits 32 only).
     static Result<MaxPyramid> fromArrays(const Surface& surface, const TechniqueMaps& maps,
-                                         int bits = 32);
+                                         int bits = 32, bool texels = false);
 
 private:
     explicit MaxPyramid(const PyramidLayout& layout);  // levels allocated, not built
@@ -136,7 +146,8 @@ inline float decodePyramidCode(float value, float depth) {
 }
 
 // The pyramid to trace with: from input.maps (checked) or built now (max_pyramid_maps.cpp),
-// at the row's `bits` (32 for rows without one).
+// at the row's `bits` (32 for rows without one); with box-surface = 2 the texel-box one (maps
+// baked with box-surface = 2 only, and back; bits 32 only: its level 0 is the surface).
 struct TechniqueInput;
 class ParamValues;
 int pyramidBits(const ParamValues& params);

@@ -12,6 +12,14 @@ namespace relief {
 
 namespace {
 std::string levelName(int level) { return "level" + std::to_string(level); }
+// box-surface = 2 (quadtree, maxmip): the texel-box pyramid (MaxPyramid::overTexels).
+bool usesTexelBoxes(const TechniqueInput& input) {
+    return input.params.has("box-surface") && input.params.getInt("box-surface") == 2;
+}
+bool bakedOverTexels(const TechniqueMaps& maps) {
+    const auto it = maps.parameters.find("box-surface");
+    return it != maps.parameters.end() && it->second == "2";
+}
 }  // namespace
 
 MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
@@ -54,8 +62,8 @@ std::vector<MapArray> MaxPyramid::toArrays(int bits, float depth) const {
 }
 
 Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const TechniqueMaps& maps,
-                                          int bits) {
-    const PyramidLayout layout = PyramidLayout::of(surface);
+                                          int bits, bool texels) {
+    const PyramidLayout layout = texels ? PyramidLayout::ofTexels(surface) : PyramidLayout::of(surface);
     MaxPyramid pyramid(layout);
     for (int level = 0; level < layout.levels; ++level) {
         const std::string name = levelName(level);
@@ -63,9 +71,10 @@ Result<MaxPyramid> MaxPyramid::fromArrays(const Surface& surface, const Techniqu
         const int w = layout.widthAt(level), h = layout.heightAt(level);
         if (!a)
             return makeError(ErrorKind::InvalidInput,
-                             "{} maps: no array '{}' (a {}-level max pyramid over {}×{} {} cells "
+                             "{} maps: no array '{}' (a {}-level max pyramid over {}×{} {} {} "
                              "expected)", maps.technique, name, layout.levels, layout.cellsX,
-                             layout.cellsY, surface.edge() == EdgeMode::Repeat ? "repeat" : "clamp");
+                             layout.cellsY, surface.edge() == EdgeMode::Repeat ? "repeat" : "clamp",
+                             texels ? "texels" : "cells");
         if (a->width != w || a->height != h || a->channels != 1 ||
             a->data.size() != size_t(w) * size_t(h))
             return makeError(ErrorKind::InvalidInput,
@@ -113,9 +122,17 @@ Status MaxPyramid::spotCheck(const Surface& surface, const std::string& techniqu
                     return refuse(level, x, y, at(level, x, y), expected);
             }
     }
-    const VertexGrid vertices(surface);
     const size_t count = size_t(m_layout.cellsX) * size_t(m_layout.cellsY);
     const size_t stride = std::max<size_t>(1, count / 4096);
+    if (m_layout.texels()) {  // level 0 holds the samples
+        for (size_t k = stride / 2; k < count; k += stride) {
+            const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
+            if (at(0, x, y) != surface.sampleZ(x, y))
+                return refuse(0, x, y, at(0, x, y), surface.sampleZ(x, y));
+        }
+        return {};
+    }
+    const VertexGrid vertices(surface);
     for (size_t k = stride / 2; k < count; k += stride) {
         const int x = int(k % size_t(m_layout.cellsX)), y = int(k / size_t(m_layout.cellsX));
         const float corners = std::max(std::max(vertices.at(x, y), vertices.at(x + 1, y)),
@@ -145,14 +162,27 @@ Status checkBits(int bits, std::string_view technique) {
 Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& input) {
     const int bits = pyramidBits(input.params);
     const Surface& s = *input.surface;
+    const bool texels = usesTexelBoxes(input);
+    const std::string_view technique = input.maps ? std::string_view(input.maps->technique)
+                                                  : std::string_view("max pyramid");
+    if (Status st = checkBits(bits, technique); !st) return st.error();
+    // The texel boxes are level 0 itself: rounding it up would move the surface.
+    if (texels && bits != 32)
+        return makeError(ErrorKind::BadArgument,
+                         "{}: box-surface=2 traces the pyramid's level 0 as the surface, so it "
+                         "needs bits=32 (got bits={})", technique, bits);
+    if (input.maps && bakedOverTexels(*input.maps) != texels)
+        return makeError(ErrorKind::InvalidInput,
+                         "{} maps: baked {} box-surface=2, traced {} it: bake them with the same "
+                         "box-surface", input.maps->technique,
+                         texels ? "without" : "with", texels ? "with" : "without");
     if (!input.maps) {
-        if (Status st = checkBits(bits, "max pyramid"); !st) return st.error();
+        if (texels) return std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(s));
         MaxPyramid pyramid(s);
         pyramid.roundUp(bits, s.depth());
         return std::make_shared<const MaxPyramid>(std::move(pyramid));
     }
     const TechniqueMaps& maps = *input.maps;
-    if (Status st = checkBits(bits, maps.technique); !st) return st.error();
     // Maps without the key are float pyramids (quadtree-oriented's, and bakes before `bits`).
     const auto found = maps.parameters.find("bits");
     const std::string baked = found == maps.parameters.end() ? "32" : found->second;
@@ -160,7 +190,7 @@ Result<std::shared_ptr<const MaxPyramid>> maxPyramidFor(const TechniqueInput& in
         return makeError(ErrorKind::InvalidInput,
                          "{}: baked maps have bits={} but the tracer asks for bits={}",
                          maps.technique, baked, bits);
-    auto pyramid = MaxPyramid::fromArrays(s, maps, bits);
+    auto pyramid = MaxPyramid::fromArrays(s, maps, bits, texels);
     if (!pyramid) return pyramid.error();
     return std::make_shared<const MaxPyramid>(std::move(*pyramid));
 }
@@ -171,6 +201,15 @@ Result<TechniqueMaps> maxPyramidMaps(const TechniqueInput& input, std::string_vi
     TechniqueMaps maps;
     maps.technique = std::string(technique);
     maps.parameters["bits"] = std::to_string(bits);  // decode: value · D at 16 / 8 (header)
+    if (usesTexelBoxes(input)) {  // recorded: the arrays are the texels' pyramid
+        if (bits != 32)
+            return makeError(ErrorKind::BadArgument,
+                             "{}: box-surface=2 traces the pyramid's level 0 as the surface, so it "
+                             "needs bits=32 (got bits={})", technique, bits);
+        maps.parameters["box-surface"] = "2";
+        maps.arrays = MaxPyramid::overTexels(*input.surface).toArrays();
+        return maps;
+    }
     maps.arrays = MaxPyramid(*input.surface).toArrays(bits, input.surface->depth());
     return maps;
 }

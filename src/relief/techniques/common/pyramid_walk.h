@@ -20,7 +20,13 @@
 // for the t at which the ray crosses the edge (boundaryT), never from a float position: far from
 // the origin a position within an ulp of an edge rounds onto it, and a ray running along the edge
 // would then be walked in the wrong row of cells (seen at 4096², fixed, and kept in the tests).
+//
+// Over texel boxes (MaxPyramid::overTexels, the quadtree paper's surface) the same walk runs on
+// the texel grid (edges at integers, PyramidLayout::edge = 0): a level-0 node's bound is its box,
+// so entering it is the hit, and with no slack the walk returns firstTexelBoxHit's t. CPU only:
+// the GLSL twin walks cells.
 #include <relief/surface/cell_intersect.h>
+#include <relief/surface/texel_boxes.h>
 #include <relief/techniques/common/max_pyramid.h>
 #include <relief/techniques/technique.h>
 
@@ -40,7 +46,7 @@ enum class Ascent {
 
 struct WalkLimits {
     int maxSteps = 0;         // 0 = none; at the cap the walk reports a hit at the cursor
-    bool boxSurface = false;  // the paper's surface: reaching a level-0 node is a hit
+    bool boxSurface = false;  // reaching a level-0 node is a hit (always so over texel boxes)
 };
 
 // Per-ray constants.
@@ -54,6 +60,7 @@ struct WalkRay {
     // that no node is skipped where the reference's cell test could still report a hit.
     float slack;
     float depth;
+    float edge;  // PyramidLayout::edge: 0.5 cells, 0 texels
 
     vec3 at(float t) const { return o + t * d; }
 };
@@ -87,10 +94,14 @@ struct NodeExit {
 
 inline constexpr float kWalkSlack = 5e-7f;
 
-inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surface& s) {
+inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surface& s,
+                           const PyramidLayout& layout) {
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
-    const float extent = std::abs(o.x) + std::abs(o.y) + std::abs(o.z) + span.tExit + s.depth();
+    // Texel boxes: a level-0 node's bound is its box, and max is exact: no slack.
+    const float extent = layout.texels() ? 0.0f
+                                         : std::abs(o.x) + std::abs(o.y) + std::abs(o.z) +
+                                               span.tExit + s.depth();
     return {o,
             d,
             1.0f / d.x,
@@ -103,12 +114,14 @@ inline WalkRay makeWalkRay(const Ray& ray, const RayInterval& span, const Surfac
             d.x > 0.0f ? -1 : 0,
             d.y > 0.0f ? -1 : 0,
             kWalkSlack * extent,
-            s.depth()};
+            s.depth(),
+            layout.edge};
 }
 
-// t where the ray crosses the cell edge x = edgeCell + 0.5 (the reference's formula, bit for bit).
-inline float boundaryT(int edgeCell, float origin, float inverse) {
-    return (float(edgeCell) + 0.5f - origin) * inverse;
+// t where the ray crosses the edge x = edgeCell + edge (the reference's formula, bit for bit:
+// cells' edge 0.5 as in cell_walk.h, texels' 0 as in texel_boxes.cpp).
+inline float boundaryT(int edgeCell, float edge, float origin, float inverse) {
+    return (float(edgeCell) + edge - origin) * inverse;
 }
 
 inline int floorMod(int a, int n) {
@@ -118,27 +131,37 @@ inline int floorMod(int a, int n) {
 
 // t at which the ray leaves, along one axis, the node of `level` that holds index p (+inf when
 // the ray does not move along that axis).
-inline float sideExitT(int p, int level, int cells, int base, int step, int exitMask, float origin,
-                       float inverse) {
+inline float sideExitT(int p, int level, int cells, int base, int step, int exitMask, float edge,
+                       float origin, float inverse) {
     if (step == 0) return kInfinity;
     const int lo = (p >> level) << level;
     const int hi = std::min(lo + (1 << level), cells);
-    return boundaryT(base + lo + ((hi - lo) & exitMask), origin, inverse);
+    return boundaryT(base + lo + ((hi - lo) & exitMask), edge, origin, inverse);
 }
 
 inline void updateExits(const PyramidLayout& layout, const WalkRay& r, WalkCursor& c, bool x,
                         bool y) {
     if (x)
         c.exitX =
-            sideExitT(c.px, c.level, layout.cellsX, c.baseX, r.stepX, r.exitMaskX, r.o.x, r.invX);
+            sideExitT(c.px, c.level, layout.cellsX, c.baseX, r.stepX, r.exitMaskX, r.edge,
+                                r.o.x, r.invX);
     if (y)
         c.exitY =
-            sideExitT(c.py, c.level, layout.cellsY, c.baseY, r.stepY, r.exitMaskY, r.o.y, r.invY);
+            sideExitT(c.py, c.level, layout.cellsY, c.baseY, r.stepY, r.exitMaskY, r.edge,
+                                r.o.y, r.invY);
 }
 
 inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, const WalkRay& r) {
     const vec3 entry = r.at(r.tEnter);
-    const int ci = s.cellOfX(entry.x), cj = s.cellOfY(entry.y);
+    int ci = s.cellOfX(entry.x), cj = s.cellOfY(entry.y);
+    if (layout.texels()) {  // the texel holding the entry (as firstTexelBoxHit finds it)
+        ci = int(std::floor(entry.x));
+        cj = int(std::floor(entry.y));
+        if (!layout.repeat) {
+            ci = std::clamp(ci, 0, layout.cellsX - 1);
+            cj = std::clamp(cj, 0, layout.cellsY - 1);
+        }
+    }
     WalkCursor c{r.tEnter, layout.topLevel(), 0, 0, layout.firstCell, layout.firstCell, 0, 0};
     if (layout.repeat) {
         c.px = floorMod(ci, layout.cellsX);
@@ -171,11 +194,7 @@ inline NodeExit nodeExit(const WalkRay& r, const WalkCursor& c) {
 
 // First t in [t, tOut] where the ray is at or below height `top`, or kInfinity.
 inline float enterBelow(float top, const WalkRay& r, float t, float tOut) {
-    if (r.d.z < 0.0f) {
-        if (r.o.z + tOut * r.d.z > top) return kInfinity;
-        return std::clamp((top - r.o.z) * r.invZ, t, tOut);
-    }
-    return r.o.z + t * r.d.z <= top ? t : kInfinity;
+    return enterBelow(top, r.o, r.d, r.invZ, t, tOut);  // texel_boxes.h: the box column test
 }
 
 // The flat bound of `quadtree` and `maxmip`: the node's maximum (one fetch).
@@ -223,12 +242,12 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
     const int ci = c.baseX + c.px, cj = c.baseY + c.py;
     float ta = r.tEnter, tb = r.tExit;
     if (r.stepX != 0) {
-        ta = std::max(ta, boundaryT(r.stepX > 0 ? ci : ci + 1, r.o.x, r.invX));
-        tb = std::min(tb, boundaryT(r.stepX > 0 ? ci + 1 : ci, r.o.x, r.invX));
+        ta = std::max(ta, boundaryT(r.stepX > 0 ? ci : ci + 1, r.edge, r.o.x, r.invX));
+        tb = std::min(tb, boundaryT(r.stepX > 0 ? ci + 1 : ci, r.edge, r.o.x, r.invX));
     }
     if (r.stepY != 0) {
-        ta = std::max(ta, boundaryT(r.stepY > 0 ? cj : cj + 1, r.o.y, r.invY));
-        tb = std::min(tb, boundaryT(r.stepY > 0 ? cj + 1 : cj, r.o.y, r.invY));
+        ta = std::max(ta, boundaryT(r.stepY > 0 ? cj : cj + 1, r.edge, r.o.y, r.invY));
+        tb = std::min(tb, boundaryT(r.stepY > 0 ? cj + 1 : cj, r.edge, r.o.y, r.invY));
     }
     tb = std::max(ta, tb);
     const float t = firstHitInCell(s.cellPlanes(ci, cj), ray, ci, cj, ta, tb);
@@ -236,6 +255,14 @@ inline float leafHit(const Surface& s, const Ray& ray, const WalkRay& r, const W
 }
 
 inline constexpr int kLeafFetches = 4;  // the cell's corners
+
+// `quadtree`'s and `maxmip`'s surface option (WalkLimits::boxSurface, maxPyramidFor).
+inline constexpr ParamSpec kBoxSurfaceParam = {
+    "box-surface", 0, 0, 2, true,
+    "0 = S; 1 = cell boxes at the corner maximum, stop at the first level-0 node (approximate); "
+    "2 = the quadtree paper's surface, texel boxes at the sample height (exact on them, "
+    "approximate on S; CPU only)",
+    ParamRole::Variant};
 
 // What common/pyramid_walk.glsl and the three walks' GLSL read (their rows' glslConstants).
 inline constexpr GlslConstant kPyramidWalkGlslConstants[] = {
@@ -248,18 +275,20 @@ inline constexpr GlslConstant kPyramidWalkGlslConstants[] = {
 };
 
 // Along one axis, the child half (low or high) of [lo, lo + 2·half) that holds the ray at t:
-// decided by when the ray crosses the middle (the reference's t). A truncated node's nominal
-// high half may not exist. The child's exit is the middle or the parent's exit.
-inline void settleHalf(float t, float origin, float inverse, int step, int base, int lo, int half,
-                       int cells, int& index, float& exitT) {
+// decided by when the ray crosses the middle (the reference's t; at t itself it has crossed,
+// unless `tieBefore`). A truncated node's nominal high half may not exist. The child's exit is
+// the middle or the parent's exit.
+inline void settleHalf(float t, float edge, float origin, float inverse, int step, int base, int lo,
+                       int half, int cells, int& index, float& exitT, bool tieBefore = false) {
     const bool exists = lo + half < cells;
     const int middle = base + lo + half;
     if (step == 0) {
-        index = lo + (exists && origin >= float(middle) + 0.5f ? half : 0);
+        index = lo + (exists && origin >= float(middle) + edge ? half : 0);
         return;
     }
-    const float tMiddle = boundaryT(middle, origin, inverse);
-    const bool high = exists && (step > 0 ? t >= tMiddle : t < tMiddle);
+    const float tMiddle = boundaryT(middle, edge, origin, inverse);
+    const bool crossed = tieBefore ? t > tMiddle : t >= tMiddle;
+    const bool high = exists && (step > 0 ? crossed : !crossed);
     index = lo + (high ? half : 0);
     if (exists && high == (step < 0)) exitT = tMiddle;  // leaving through the middle
 }
@@ -270,8 +299,19 @@ inline void descend(const PyramidLayout& layout, const WalkRay& r, const NodeBox
     c.t = tIn;
     --c.level;
     const int half = 1 << c.level;
-    settleHalf(tIn, r.o.x, r.invX, r.stepX, c.baseX, b.loX, half, layout.cellsX, c.px, c.exitX);
-    settleHalf(tIn, r.o.y, r.invY, r.stepY, c.baseY, b.loY, half, layout.cellsY, c.py, c.exitY);
+    settleHalf(tIn, r.edge, r.o.x, r.invX, r.stepX, c.baseX, b.loX, half, layout.cellsX, c.px,
+               c.exitX);
+    // Texel boxes are not continuous at a corner: where the ray crosses an x edge and the y
+    // middle at the same t, firstTexelBoxHit visits the texel beyond x first (its ties go to x,
+    // as `advance`'s do), so the y half is the one before the middle.
+    bool tieBefore = false;
+    if (layout.texels() && r.stepX != 0) {
+        const int lo = (c.px >> c.level) << c.level;
+        const int entry = r.stepX > 0 ? lo : std::min(lo + half, layout.cellsX);
+        tieBefore = boundaryT(c.baseX + entry, r.edge, r.o.x, r.invX) == tIn;
+    }
+    settleHalf(tIn, r.edge, r.o.y, r.invY, r.stepY, c.baseY, b.loY, half, layout.cellsY, c.py,
+               c.exitY, tieBefore);
 }
 
 template <Ascent kAscent>
@@ -330,7 +370,9 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
                 const WalkLimits& limits) {
     const RayInterval span = s.clip(ray);
     if (span.empty()) return Hit{};
-    const WalkRay r = makeWalkRay(ray, span, s);
+    const WalkRay r = makeWalkRay(ray, span, s, layout);
+    if (layout.texels() && r.o.z + r.tEnter * r.d.z <= floorTolerance(r.o.z, r.depth))
+        return makeHit(ray, r.tEnter, 0, 0);  // entering through the floor, as firstTexelBoxHit
     WalkCursor c = startCursor(s, layout, r);
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : std::numeric_limits<int>::max();
     int steps = 0, fetches = 0;
@@ -346,7 +388,7 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
                 descend(layout, r, b, tIn, c);
                 continue;
             }
-            if (limits.boxSurface) return makeHit(ray, tIn, steps, fetches);
+            if (limits.boxSurface || layout.texels()) return makeHit(ray, tIn, steps, fetches);
             fetches += kLeafFetches;
             const float tHit = leafHit(s, ray, r, c);
             if (tHit < kInfinity) return makeHit(ray, tHit, steps, fetches);

@@ -5,7 +5,8 @@
 //   the ray passes above its maximum, and after leaving a node the walk ascends to the common
 //   ancestor of the node and its neighbour before descending again.
 // Guarantee: exact on S (same hit/miss as `exact`, |Δt| ≤ 1e-3); with max-steps > 0 it is
-//   approximate (a hit at the cursor when the cap is reached).
+//   approximate (a hit at the cursor when the cap is reached); box-surface = 1, 2 as quadtree's
+//   (2: the paper-era texel boxes, exact on them, approximate on S, CPU only).
 // Map: the max pyramid shared with `quadtree` (common/max_pyramid.h): one float per node,
 //   ≈ 4/3 (W+1)(H+1) floats, O(WH) build; bits = 16 / 8 store the maxima as codes rounded up
 //   (exact still: the cell test reads the heights). The walk is common/pyramid_walk.h with the
@@ -43,8 +44,10 @@ private:
 inline constexpr ParamSpec kMaxmipParams[] = {
     {"max-steps", 0, 0, 1e9, true, "iteration cap (0 = none, exact); N > 0 is approximate",
      ParamRole::IterationCap},
+    kBoxSurfaceParam,
     {"bits", 32, 8, 32, true,
-     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact)",
+     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact; "
+     "box-surface=2 needs 32)",
      ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input);

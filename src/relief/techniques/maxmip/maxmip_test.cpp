@@ -19,6 +19,20 @@ TEST(Maxmip, ExactAgainstReference) {
     EXPECT_EQ(tally.wrong, 0u);
 }
 
+// box-surface = 2: the walk over the texel-box pyramid is the texel-box reference's first hit.
+TEST(Maxmip, TexelBoxesExactOnTheirSurface) {
+    const auto tally = walk_test::contractOnAllMapsWith(
+        [](const std::shared_ptr<const Surface>& surface) {
+            return MaxmipTracer(
+                surface, std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(*surface)),
+                {0, true});
+        },
+        [](const std::shared_ptr<const Surface>& s) { return walk_test::TexelBoxReference{s}; },
+        300, "maxmip box-surface=2 vs texel boxes");
+    EXPECT_GE(tally.rays, 100000u);
+    EXPECT_EQ(tally.wrong, 0u);
+}
+
 TEST(Maxmip, CappedCursorNeverPassesFirstHit) {
     walk_test::cursorNeverPassesFirstHit(
         [](const std::shared_ptr<const Surface>& surface, int cap) {

@@ -1,5 +1,6 @@
 // quadtree — GLSL twin of relief::QuadtreeTracer::trace (quadtree.h): walkPyramid with the flat
-// max bound (MaxBound) and the Ascent policy from the `ascend` parameter.
+// max bound (MaxBound) and the Ascent policy from the `ascend` parameter. box-surface = 1 (cell
+// boxes) as on the CPU; 2 (texel boxes) is CPU only (the GL backend refuses it: cpuOnly).
 // requires: common/pyramid_walk.glsl
 
 float boundEnter(NodeBox b, WalkRay r, float t, float tOut) {

@@ -7,15 +7,18 @@
 // Guarantee: exact on S (same hit/miss as `exact`, |Δt| ≤ 1e-3) with the default parameters.
 //   Skipped nodes lie above their maximum, which bounds S (max_pyramid.h); a level-0 node the ray
 //   dips into gets the reference's two-triangle cell test, and when that finds nothing the walk
-//   goes on to the next cell. With max-steps > 0 or box-surface = 1 it is approximate.
+//   goes on to the next cell. With max-steps > 0 or box-surface = 1, 2 it is approximate on S;
+//   box-surface = 2 is exact on its own surface, the texel boxes (surface/texel_boxes.h).
 // Map: the max pyramid (max_pyramid.h): one float per node, ≈ 4/3 (W+1)(H+1) floats; built in
 //   O(WH), ≈ 0.1 s at 4096² on two cores. bits = 16 / 8 store the maxima as codes rounded up:
 //   exact still (the cell test reads the heights); box-surface = 1 stops at the rounded boxes.
 // Steps = nodes and cells tested; fetches = pyramid reads + 4 per cell test.
 // Departures from the paper:
 //   - S instead of texel boxes: the finest level holds one cell's corner maximum, and the walk
-//     finishes with the exact cell test (`box-surface` = 1 restores the paper's stop at level 0,
-//     with cell boxes at the cell's corner maximum instead of texel boxes).
+//     finishes with the exact cell test. `box-surface` = 1 stops at level 0 on those cell boxes
+//     (the paper's stop, not its surface); `box-surface` = 2 is the paper's surface: the texel
+//     pyramid (sample heights, texel (i, j) = [i, i+1] × [j, j+1] centred on its sample), its
+//     level-0 box the hit (CPU only; baked maps record box-surface = 2).
 //   - The paper never goes up (ascend = 0, its Algorithm 1 verbatim). Once the exact cell test
 //     can fail, that walks on cell by cell; the default (ascend = 1) goes up one level when the
 //     neighbour lies in another parent, still jumping to neighbours rather than to the common
@@ -64,11 +67,10 @@ inline constexpr ParamSpec kQuadtreeParams[] = {
     {"ascend", 1, 0, 1, true,
      "after a jump: 0 = stay at the level (the paper), 1 = up one level on entering a new parent",
      ParamRole::Variant},
-    {"box-surface", 0, 0, 1, true,
-     "1 = the paper's surface: stop at the first level-0 node reached (cell boxes; approximate)",
-     ParamRole::Variant},
+    kBoxSurfaceParam,
     {"bits", 32, 8, 32, true,
-     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact)",
+     "pyramid maxima: 32 (float), 16 or 8 (codes of D rounded up; the tracer stays exact; "
+     "box-surface=2 needs 32)",
      ParamRole::Encoding},
 };
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input);

@@ -59,6 +59,61 @@ TEST(Quadtree, BoxSurfaceIsNeverBehindS) {
     }
 }
 
+// A registry tracer on box-surface = 2 against the texel-box reference, ray by ray.
+void expectTexelBoxHits(const Tracer& tracer, const Surface& surface, uint32_t seed) {
+    walk_test::RayMaker maker(surface, seed);
+    const std::vector<Ray> rays = maker.all(20);
+    std::vector<Hit> hits(rays.size());
+    tracer.traceBatch(rays, hits);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Hit ref = firstTexelBoxHit(surface, rays[k]);
+        ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
+        if (ref.hit) EXPECT_EQ(hits[k].t, ref.t);
+    }
+}
+
+// box-surface = 2, the paper's surface: the walk over the texel-box pyramid (both ascents) is
+// the texel-box reference's first hit; through the registry too.
+TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
+    for (Ascent ascent : {Ascent::Parent, Ascent::None}) {
+        const auto tally = walk_test::contractOnAllMapsWith(
+            [=](const std::shared_ptr<const Surface>& surface) {
+                return QuadtreeTracer(
+                    surface, std::make_shared<const MaxPyramid>(MaxPyramid::overTexels(*surface)),
+                    ascent, {0, true});
+            },
+            [](const std::shared_ptr<const Surface>& s) { return walk_test::TexelBoxReference{s}; },
+            ascent == Ascent::Parent ? 300 : 60, "quadtree box-surface=2 vs texel boxes");
+        if (ascent == Ascent::Parent) EXPECT_GE(tally.rays, 100000u);
+        EXPECT_EQ(tally.wrong, 0u);
+    }
+    const auto surface = walk_test::makeSurface({"walls", 33, 17, EdgeMode::Clamp, 0.3f});
+    auto tracer = createTracer("quadtree", surface, {{"box-surface", 2.0}});
+    ASSERT_TRUE(tracer.ok());
+    expectTexelBoxHits(**tracer, *surface, 4);
+}
+
+// Baked with box-surface = 2 (recorded), the maps are the texel pyramid: they trace as the one
+// built at load, and maps baked with and traced without it (or the other way) are refused.
+TEST(Quadtree, TexelBoxesBakedMaps) {
+    const TechniqueInfo& info = *findTechnique("quadtree");
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const auto surface = walk_test::makeSurface({"walls", 9, 5, edge, 0.3f});
+        const ParamValues cells = *resolveParams(info, {});
+        const ParamValues texels = *resolveParams(info, {{"box-surface", 2.0}});
+        const auto cellMaps = info.buildMaps(TechniqueInput{surface, cells, nullptr});
+        const auto texelMaps = info.buildMaps(TechniqueInput{surface, texels, nullptr});
+        ASSERT_TRUE(cellMaps.ok() && texelMaps.ok());
+        EXPECT_EQ(texelMaps->parameters.at("box-surface"), "2");
+        EXPECT_FALSE(info.check(TechniqueInput{surface, texels, &*cellMaps}).ok());
+        EXPECT_FALSE(info.check(TechniqueInput{surface, cells, &*texelMaps}).ok());
+        EXPECT_FALSE(info.create(TechniqueInput{surface, cells, &*texelMaps}).ok());
+        auto baked = info.create(TechniqueInput{surface, texels, &*texelMaps});
+        ASSERT_TRUE(baked.ok()) << baked.error().message;
+        expectTexelBoxHits(**baked, *surface, 8);
+    }
+}
+
 TEST(Quadtree, EntryBelowSThroughTheWallHitsAtEntry) {
     const auto surface = walk_test::makeSurface({"flat", 40, 30, EdgeMode::Clamp, 0.5f});
     const auto tracer = quadtreeMaker(Ascent::Parent)(surface);
