@@ -25,12 +25,14 @@ ErrorStats compareHits(const Image<Hit>& hits, const Image<Hit>& reference) {
         stats.bothHit += h.hit && r.hit;
         if (h.hit != r.hit) {
             ++stats.wrong;
+            stats.pastFirstHit += r.hit;  // stepped over every hit the reference finds
             continue;
         }
         if (!h.hit) continue;
         const double e = std::abs(double(h.t) - double(r.t));
         errors.push_back(e);
         if (e > kWrongHitDistance) ++stats.wrong;
+        if (double(h.t) - double(r.t) > kWrongHitDistance) ++stats.pastFirstHit;
     }
     stats.error = summarize(std::move(errors));
     stats.steps = summarize(std::move(steps));

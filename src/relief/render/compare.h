@@ -20,11 +20,15 @@ struct ErrorStats {
     size_t covered = 0;     // pixels the technique or the reference hit
     size_t bothHit = 0;     // pixels both hit: the denominator of `error`
     size_t wrong = 0;       // wrong-hit pixels (all of them covered)
+    // Wrong pixels whose hit lies past the reference's first hit, or that miss where it hits: what
+    // a method that may step over a hit does (a subset of `wrong`).
+    size_t pastFirstHit = 0;
     Summary error;          // |t − t_ref| over pixels where both hit
     Summary steps;          // per pixel (all pixels)
     Summary coveredSteps;   // per covered pixel
     Summary fetches;
     double wrongRate() const { return pixels ? double(wrong) / double(pixels) : 0.0; }
+    double pastFirstHitRate() const { return pixels ? double(pastFirstHit) / double(pixels) : 0.0; }
     double coveredWrongRate() const { return covered ? double(wrong) / double(covered) : 0.0; }
 };
 

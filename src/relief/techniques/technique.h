@@ -78,6 +78,39 @@ enum class StudyKind : uint8_t {
     Views,   // techniques × heightfields × views × caps, against the reference and the peers
     Builds,  // map build time (wall and process CPU) and size per technique and map size
     Scaling, // steps per ray (mean, p99) against map size, every hit checked by the reference
+    Paper,   // a paper's page: runs its parts (other studies) and judges its claims (docs/papers/)
+};
+// What a paper claim is measured with, per view of a part's rows (bench/runner.h BenchRow).
+enum class ClaimMetric : uint8_t {
+    Speed,          // rays per second (fps on GL): as a ratio, > 1 means the numerator is faster
+    Steps,          // mean steps per pixel
+    MeanError,      // mean |t - t_ref| in texels over the pixels both hit
+    WrongPercent,   // % of the pixels with a wrong hit (hit/miss difference or |dt| over the tolerance)
+    PastFirstHitPercent,  // % of the pixels whose hit lies past the reference's first hit, or that miss it
+    BuildSeconds,   // map build, wall seconds
+};
+// One side of a claim: row `numerator` (a row label of the part) over row `denominator` on the
+// same views (geometric mean of the per-view ratios); an empty denominator: the numerator's
+// value itself (arithmetic mean over the views). Map labels as the bench names them ("fbm:512x512");
+// empty: every map, the same one on both sides.
+struct ClaimMeasure {
+    std::string_view numerator, denominator;
+    std::string_view numeratorMap = {}, denominatorMap = {};
+};
+// A paper's headline claim, judged from a run: its value with the paper's own variant (the
+// verdict) and, beside it, with our safe variant.
+struct ClaimSpec {
+    std::string_view source;  // where the paper says it: "Fig. 9", "Table 1", "§8"
+    std::string_view claim;   // its wording, short
+    std::string_view paper;   // the paper's number
+    std::string_view part;    // the study (preset name) of the page that measures it
+    ClaimMetric metric = ClaimMetric::Speed;
+    ClaimMeasure paperVariant;
+    ClaimMeasure safeVariant = {};  // empty numerator: no safe variant to show
+    float minElevation = -90.0f, maxElevation = 90.0f;  // the views it is judged on
+    int cap = -1;  // the rows' iteration cap: -1 the largest the part runs, 0 the row's default
+    double low = -1e300, high = 1e300;  // agrees when the paper variant's value lies in [low, high]
+    std::string_view whyAgrees = {}, whyDisagrees = {};  // the reason the page shows with the verdict
 };
 struct PaperRatioSpec {
     std::string_view what, paper;
@@ -100,6 +133,11 @@ struct StudySpec {
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
     bool imageMethod = false;  // rows draw with their own TechniqueInfo::image, not one ray per pixel
+    // StudyKind::Paper: the studies it runs (preset names, any row's), the claims it judges, and
+    // the paper (a file name in ../shared/papers).
+    std::span<const std::string_view> parts = {};
+    std::span<const ClaimSpec> claims = {};
+    std::string_view paperFile = {};
 };
 
 // How the renderer draws a row's image.
