@@ -32,9 +32,9 @@ for mesh in cube sphere; do
             -o "$out/mesh/$mesh-$technique.png"
     done
 done
-"$relief" render gen:bricks:512x512:1 --color gen --depth-ratio 0.03 --edge repeat -t cone \
-    --mesh plane --tiles 2 --shadows --crossing-plane 0.5 --elevation 30 --azimuth 35 \
-    --size 640x480 -o "$out/mesh/plane-crossing-cone.png"
+"$relief" render gen:bricks:256x256:1 --color gen --depth-ratio 0.05 -t cone --mesh plane \
+    --shadows --crossing-plane 0.6 --elevation 30 --azimuth 35 --distance 0.6 --size 640x480 \
+    -o "$out/mesh/plane-crossing-cone.png"
 
 echo "== Engine exports (docs/engine.md): the Colorado cone map as a 16-bit PNG and a KTX2"
 mkdir -p "$out/engine"
@@ -64,7 +64,7 @@ PYTHONPATH="$root/build/python" MPLBACKEND=Agg MPLCONFIGDIR="$out/.matplotlib" /
     echo "engine/colorado-cone.ktx2 (R16G16_UNORM) and the shader files to paste (docs/engine.md)."
     echo "Python: python-compare.png (examples/compare.py)."
     echo "Mesh previews: mesh/{cube,sphere}-{cone,relaxed-cone}.png, mesh/plane-crossing-cone.png"
-    echo "(a flat square at half the relief's depth crossing it: pixel depth offset)."
+    echo "(a flat square at 0.6 of the relief's height crossing it: pixel depth offset)."
 } > "$out/README.md"
 echo
 cat "$out/README.md"

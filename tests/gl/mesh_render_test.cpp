@@ -184,6 +184,29 @@ TEST(MeshPreview, EveryBuiltinMeshWithTwoRows) {
     }
 }
 
+// Clamp mode: a ray that leaves the map's uv square is discarded (a silhouette), so the plane seen
+// at a grazing angle covers less than the same view in repeat mode, where every ray hits.
+TEST(MeshPreview, ClampedMapsHaveSilhouettes) {
+    RELIEF_REQUIRE_GL();
+    const TechniqueInfo& info = **lookupTechnique("cone");
+    MeshRenderSettings settings;
+    settings.width = 80;
+    settings.height = 60;
+    settings.view.elevationDeg = 20.0f;
+    int covered[2] = {};
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        auto surface = testing::generatedSurface("fbm", 48, 48, 0.25f, edge, 3);
+        ASSERT_TRUE(surface);
+        const Scene scene = sceneFor(info, surface);
+        auto image = renderMesh(info, scene.params, scene.maps, surface, *builtinMesh("plane"),
+                                nullptr, settings);
+        ASSERT_TRUE(image) << image.error().message;
+        for (MeshPixel p : image->object.pixels) covered[int(edge == EdgeMode::Repeat)] += p == MeshPixel::Relief;
+    }
+    EXPECT_LT(covered[0], covered[1]);
+    EXPECT_GT(covered[0], covered[1] / 2);
+}
+
 // The crossing square against the relief: per pixel, which one the exact reference puts in front
 // on the pixel's own ray (the plane mesh: its tangent frame is one affine map world -> texel).
 TEST(MeshPreview, DepthOffsetCrossingMatchesTheReference) {
@@ -291,6 +314,8 @@ TEST(MeshPreview, CliErrorsWriteNothing) {
         {"no shader function", "render gen:bricks:32x32 -t exact --mesh cube -o {tmp}/out.png", 5,
          "", "no shader-library function"},
         {"mesh-only option", common + "--tiles 2", 1, "", "--tiles: read with --mesh only"},
+        {"one technique", "render gen:bricks:32x32 -t cone,linear --mesh cube -o {tmp}/out.png", 1,
+         "", "--mesh draws one technique"},
         {"not for meshes", common + "--mesh cube --steps-out {tmp}/s.png", 1, "",
          "--steps-out: not read with --mesh"},
     };

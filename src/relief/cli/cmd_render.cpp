@@ -339,6 +339,9 @@ void meshRender(const RenderOptions& o) {
                                       o.notForMesh.front())};
     if (o.output.empty())
         throw CommandFailed{{ErrorKind::BadArgument, "--mesh: say where to write: -o FILE.png"}};
+    if (o.technique.name == "all" || o.technique.name.find(',') != std::string::npos)
+        throw CommandFailed{makeError(ErrorKind::BadArgument,
+                                      "-t {}: --mesh draws one technique", o.technique.name)};
     const TechniqueInfo& info = *orFail(lookupTechnique(o.technique.name));
     if (info.shaderFunction.empty())
         throw CommandFailed{makeError(
