@@ -113,6 +113,13 @@ TEST(MeshPreview, GltfLoadsAndBadFilesAreErrors) {
     ASSERT_FALSE(bad);
     EXPECT_EQ(bad.error().kind, ErrorKind::InvalidInput);
     EXPECT_NE(bad.error().message.find("bad.gltf"), std::string::npos);
+    // An index accessor that runs past its buffer.
+    std::string past = kQuadGltf;
+    past.replace(past.find(R"("count": 6)"), 10, R"("count": 600)");
+    std::ofstream(dir / "past.gltf") << past;
+    auto overrun = loadMesh((dir / "past.gltf").string());
+    ASSERT_FALSE(overrun);
+    EXPECT_EQ(overrun.error().kind, ErrorKind::InvalidInput);
     std::ofstream(dir / "empty.gltf") << R"({"asset": {"version": "2.0"}})";
     auto empty = loadMesh((dir / "empty.gltf").string());
     ASSERT_FALSE(empty);

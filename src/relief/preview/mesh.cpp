@@ -123,16 +123,22 @@ Mesh cylinder() {
     return m;
 }
 
-// The accessor's elements as floats (normalized integers decoded), `components` each.
-Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index, int components,
-                                        const std::string& path, std::string_view what) {
+// Where an accessor's elements lie: checked against its buffer view and buffer.
+struct AccessorBytes {
+    const unsigned char* first = nullptr;
+    size_t stride = 0, count = 0;
+    int componentType = 0, componentSize = 0;
+};
+
+Result<AccessorBytes> accessorBytes(const tinygltf::Model& model, int index, int components,
+                                    const std::string& path, std::string_view what) {
     auto bad = [&](std::string_view why) {
         return makeError(ErrorKind::InvalidInput, "{}: {}: {}", path, what, why);
     };
     if (index < 0 || size_t(index) >= model.accessors.size()) return bad("no such accessor");
     const tinygltf::Accessor& a = model.accessors[size_t(index)];
     if (tinygltf::GetNumComponentsInType(uint32_t(a.type)) != components)
-        return bad(fmt::format("expected {} components", components));
+        return bad(fmt::format("expected {} component(s)", components));
     if (a.bufferView < 0 || size_t(a.bufferView) >= model.bufferViews.size())
         return bad("no buffer view (sparse accessors are not read)");
     const tinygltf::BufferView& view = model.bufferViews[size_t(a.bufferView)];
@@ -140,17 +146,28 @@ Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index,
     const std::vector<unsigned char>& data = model.buffers[size_t(view.buffer)].data;
     const int size = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
     if (size <= 0) return bad("unknown component type");
-    const size_t stride = view.byteStride ? view.byteStride : size_t(size) * size_t(components);
+    const size_t element = size_t(size) * size_t(components);
+    const size_t stride = view.byteStride ? view.byteStride : element;
     const size_t begin = view.byteOffset + a.byteOffset;
-    if (a.count > 0 && begin + (a.count - 1) * stride + size_t(size * components) > data.size())
+    if (begin > data.size() || a.count > data.size() ||
+        (a.count > 0 && (data.size() - begin < element ||
+                         (a.count - 1) * stride > data.size() - begin - element)))
         return bad("runs past its buffer");
+    return AccessorBytes{data.data() + begin, stride, a.count, a.componentType, size};
+}
+
+// The accessor's elements as floats (normalized integers decoded), `components` each.
+Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index, int components,
+                                        const std::string& path, std::string_view what) {
+    auto bytes = accessorBytes(model, index, components, path, what);
+    if (!bytes) return bytes.error();
     std::vector<float> out;
-    out.reserve(a.count * size_t(components));
-    for (size_t k = 0; k < a.count; ++k)
+    out.reserve(bytes->count * size_t(components));
+    for (size_t k = 0; k < bytes->count; ++k)
         for (int c = 0; c < components; ++c) {
-            const unsigned char* p = data.data() + begin + k * stride + size_t(c * size);
+            const unsigned char* p = bytes->first + k * bytes->stride + size_t(c * bytes->componentSize);
             float value = 0.0f;
-            switch (a.componentType) {
+            switch (bytes->componentType) {
                 case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, p, 4); break;
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = float(*p) / 255.0f; break;
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
@@ -159,7 +176,10 @@ Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index,
                     value = float(u) / 65535.0f;
                     break;
                 }
-                default: return bad("component type not float, UNORM8 or UNORM16");
+                default:
+                    return makeError(ErrorKind::InvalidInput,
+                                     "{}: {}: component type not float, UNORM8 or UNORM16", path,
+                                     what);
             }
             out.push_back(value);
         }
@@ -168,18 +188,17 @@ Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index,
 
 Result<std::vector<uint32_t>> readIndices(const tinygltf::Model& model, int index,
                                           const std::string& path) {
-    const tinygltf::Accessor& a = model.accessors.at(size_t(index));
-    const tinygltf::BufferView& view = model.bufferViews.at(size_t(a.bufferView));
-    const std::vector<unsigned char>& data = model.buffers.at(size_t(view.buffer)).data;
-    const int size = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
-    const size_t begin = view.byteOffset + a.byteOffset, stride = view.byteStride ? view.byteStride : size_t(size);
-    if (size <= 0 || a.type != TINYGLTF_TYPE_SCALAR ||
-        (a.count > 0 && begin + (a.count - 1) * stride + size_t(size) > data.size()))
-        return makeError(ErrorKind::InvalidInput, "{}: indices: malformed accessor", path);
+    auto bytes = accessorBytes(model, index, 1, path, "indices");
+    if (!bytes) return bytes.error();
+    if (bytes->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        bytes->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        bytes->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+        return makeError(ErrorKind::InvalidInput, "{}: indices: not unsigned integers", path);
     std::vector<uint32_t> out;
-    for (size_t k = 0; k < a.count; ++k) {
-        uint32_t v = 0;
-        std::memcpy(&v, data.data() + begin + k * stride, size_t(size));  // little endian
+    out.reserve(bytes->count);
+    for (size_t k = 0; k < bytes->count; ++k) {
+        uint32_t v = 0;  // glTF is little endian, as this machine
+        std::memcpy(&v, bytes->first + k * bytes->stride, size_t(bytes->componentSize));
         out.push_back(v);
     }
     return out;
