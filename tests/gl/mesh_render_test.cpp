@@ -25,22 +25,27 @@ fs::path freshDir(const std::string& name) {
     return dir;
 }
 
-// A quad in the xz plane as glTF, its buffer inline (base64): positions, uvs, no normals, no
-// tangents (both computed on loading).
-const char* kQuadGltf = R"({
-  "asset": {"version": "2.0"},
-  "scene": 0, "scenes": [{"nodes": [0]}],
-  "nodes": [{"mesh": 0, "translation": [5, 0, 0]}],
-  "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
-  "buffers": [{"byteLength": 92, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AACAPwAAAAAAAIA/AAAAAAAAgD8AAIA/AACAPwAAAAAAAAAAAACAPwAAAAAAAAEAAgACAAEAAwA="}],
-  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                  {"buffer": 0, "byteOffset": 48, "byteLength": 32},
-                  {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
-  "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-                 "min": [0, 0, 0], "max": [1, 0, 1]},
-                {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
-                {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}]
-})";
+// A quad in the xz plane as glTF, its buffer inline (base64): positions, uvs, tangents (used when
+// withTangents) and indices; no normals (computed on loading from the triangles).
+std::string quadGltf(bool withTangents) {
+    return fmt::format(R"({{
+  "asset": {{"version": "2.0"}},
+  "scene": 0, "scenes": [{{"nodes": [0]}}],
+  "nodes": [{{"mesh": 0, "translation": [5, 0, 0]}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1{}}}, "indices": 3}}]}}],
+  "buffers": [{{"byteLength": 156, "uri": "data:application/octet-stream;base64,{}"}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}},
+                  {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
+                  {{"buffer": 0, "byteOffset": 80, "byteLength": 64}},
+                  {{"buffer": 0, "byteOffset": 144, "byteLength": 12}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                 "min": [0, 0, 0], "max": [1, 0, 1]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+                {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC4"}},
+                {{"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}}]
+}})",
+                       withTangents ? R"(, "TANGENT": 2)" : "", "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AACAPwAAAAAAAIA/AAAAAAAAgD8AAIA/AACAPwAAAAAAAAAAAACAPwAAAACamRk/AAAAAM3MTD8AAIC/mpkZPwAAAADNzEw/AACAv5qZGT8AAAAAzcxMPwAAgL+amRk/AAAAAM3MTD8AAIC/AAABAAIAAgABAAMA");
+}
 
 void expectWellFormed(const Mesh& mesh, const std::string& name, bool closed) {
     ASSERT_FALSE(mesh.indices.empty()) << name;
@@ -94,7 +99,7 @@ TEST(MeshPreview, BuiltinMeshesAreClosedAndFramed) {
 
 TEST(MeshPreview, GltfLoadsAndBadFilesAreErrors) {
     const fs::path dir = freshDir("gltf");
-    std::ofstream(dir / "quad.gltf") << kQuadGltf;
+    std::ofstream(dir / "quad.gltf") << quadGltf(false);
     auto quad = loadMesh((dir / "quad.gltf").string());
     ASSERT_TRUE(quad) << quad.error().message;
     EXPECT_EQ(quad->vertices.size(), 4u);
@@ -103,6 +108,16 @@ TEST(MeshPreview, GltfLoadsAndBadFilesAreErrors) {
     for (const MeshVertex& v : quad->vertices) {
         EXPECT_NEAR(v.tangent.x, 1.0f, 1e-5f);  // +u along +x (computed from the UVs)
         EXPECT_NEAR(v.position.x * v.position.x + v.position.z * v.position.z, 1.0f, 1e-4f);
+    }
+
+    // Tangents from the file are kept (here along (0.6, 0, 0.8), left-handed).
+    std::ofstream(dir / "tangents.gltf") << quadGltf(true);
+    auto given = loadMesh((dir / "tangents.gltf").string());
+    ASSERT_TRUE(given) << given.error().message;
+    for (const MeshVertex& v : given->vertices) {
+        EXPECT_NEAR(v.tangent.x, 0.6f, 1e-5f);
+        EXPECT_NEAR(v.tangent.z, 0.8f, 1e-5f);
+        EXPECT_EQ(v.tangent.w, -1.0f);
     }
 
     auto missing = loadMesh((dir / "none.gltf").string());
@@ -114,7 +129,7 @@ TEST(MeshPreview, GltfLoadsAndBadFilesAreErrors) {
     EXPECT_EQ(bad.error().kind, ErrorKind::InvalidInput);
     EXPECT_NE(bad.error().message.find("bad.gltf"), std::string::npos);
     // An index accessor that runs past its buffer.
-    std::string past = kQuadGltf;
+    std::string past = quadGltf(false);
     past.replace(past.find(R"("count": 6)"), 10, R"("count": 600)");
     std::ofstream(dir / "past.gltf") << past;
     auto overrun = loadMesh((dir / "past.gltf").string());
