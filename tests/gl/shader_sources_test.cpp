@@ -19,7 +19,9 @@ TEST(GlShaders, CommonFilesAreEmbedded) {
                                   "common_cell_intersect.glsl", "common_camera.glsl",
                                   "main_rays.glsl", "main_camera.glsl", "mesh_vertex.glsl",
                                   "mesh_fragment.glsl", "surface/cell_cursor.glsl",
-                                  "surface/cell_walk.glsl"})
+                                  "surface/cell_walk.glsl", "preview_vertex.glsl",
+                                  "preview_fragment.glsl", "library/common.glsl",
+                                  "library/cone.glsl"})
         EXPECT_FALSE(shaderSource(path).empty()) << path;
     EXPECT_TRUE(shaderSource("no_such_file.glsl").empty());
     EXPECT_NE(shaderSource("exact/exact.glsl").find("Hit trace(Ray ray)"), std::string_view::npos);
