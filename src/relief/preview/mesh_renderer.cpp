@@ -13,6 +13,14 @@
 
 namespace relief::preview {
 
+// The vertex array of a mesh (MeshVertex interleaved) and its index buffer; outside the
+// anonymous namespace, since MeshPreview::State holds one.
+struct MeshBuffers {
+    gl::GlVertexArray vertexArray;
+    gl::GlBuffer vertices, indices;
+    GLsizei count = 0;
+};
+
 namespace {
 
 constexpr float kCrossingHalfSide = 1.2f;
@@ -90,13 +98,6 @@ gl::GlTexture normalTexture(const Surface& surface) {
     return gl::GlTexture(id);
 }
 
-// The vertex array of `mesh` (MeshVertex interleaved) and its index buffer.
-struct MeshBuffers {
-    gl::GlVertexArray vertexArray;
-    gl::GlBuffer vertices, indices;
-    GLsizei count = 0;
-};
-
 MeshBuffers upload(const Mesh& mesh) {
     MeshBuffers b;
     b.vertices.upload(mesh.vertices.data(), mesh.vertices.size() * sizeof(MeshVertex),
@@ -143,47 +144,145 @@ glm::mat4 clipFromWorld(const Camera& camera) {
            glm::lookAt(camera.eye(), camera.eye() + camera.forward(), camera.up());
 }
 
+float meanUvScale(const Mesh& mesh) {
+    double sum = 0.0;
+    for (const MeshVertex& v : mesh.vertices) sum += v.uvScale.x;
+    return mesh.vertices.empty() ? 1.0f : float(sum / double(mesh.vertices.size()));
+}
+
+float worldDepthFrom(float meanScale, const Surface& surface, float tiles) {
+    return surface.depth() / float(surface.width()) * meanScale / tiles;
+}
+
+float topOf(const Mesh& mesh) {
+    float top = -kInfinity;
+    for (const MeshVertex& v : mesh.vertices) top = std::max(top, v.position.z);
+    return top;
+}
+
+float crossingZFrom(float top, float meanScale, const Surface& surface,
+                    const MeshRenderSettings& settings) {
+    const float h = settings.crossingHeight.value_or(1.0f);
+    return top - (settings.midLevel - h) * worldDepthFrom(meanScale, surface, settings.tiles);
+}
+
 }  // namespace
 
 float worldDepth(const Mesh& mesh, const Surface& surface, float tiles) {
-    double sum = 0.0;
-    for (const MeshVertex& v : mesh.vertices) sum += v.uvScale.x;
-    const double meanScale = mesh.vertices.empty() ? 1.0 : sum / double(mesh.vertices.size());
-    return float(double(surface.depth()) / double(surface.width()) * meanScale / double(tiles));
+    return worldDepthFrom(meanUvScale(mesh), surface, tiles);
 }
 
 float crossingZ(const Mesh& mesh, const Surface& surface, const MeshRenderSettings& settings) {
-    float top = -kInfinity;
-    for (const MeshVertex& v : mesh.vertices) top = std::max(top, v.position.z);
-    const float h = settings.crossingHeight.value_or(1.0f);
-    return top - (settings.midLevel - h) * worldDepth(mesh, surface, settings.tiles);
+    return crossingZFrom(topOf(mesh), meanUvScale(mesh), surface, settings);
 }
 
 Camera meshCamera(const MeshRenderSettings& settings) {
     return Camera(settings.view, vec3(0.0f), 2.0f, settings.width, settings.height);
 }
 
-Result<MeshImage> renderMesh(const TechniqueInfo& info, const ParamValues& params,
-                             const TechniqueMaps& maps, std::shared_ptr<const Surface> surface,
-                             const Mesh& mesh, const ImageRgb8* color,
-                             const MeshRenderSettings& settings) {
+struct MeshPreview::State {
+    const TechniqueInfo* info = nullptr;
+    ParamValues params;
+    TechniqueMaps maps;
+    std::shared_ptr<const Surface> surface;
+    gl::GlProgram program;
+    std::vector<gl::GlTexture> textures;
+    gl::GlTexture normals, colors;
+    MeshBuffers mesh;
+    float top = 0.0f, meanUvScale = 1.0f;  // of the mesh: its highest z, its mean |dP/du|
+};
+
+MeshPreview::MeshPreview(std::unique_ptr<State> state) : m_state(std::move(state)) {}
+MeshPreview::~MeshPreview() = default;
+MeshPreview::MeshPreview(MeshPreview&&) noexcept = default;
+MeshPreview& MeshPreview::operator=(MeshPreview&&) noexcept = default;
+
+Result<MeshPreview> MeshPreview::create(const TechniqueInfo& info, const ParamValues& params,
+                                        const TechniqueMaps& maps,
+                                        std::shared_ptr<const Surface> surface,
+                                        const ImageRgb8* color) {
     if (info.shaderFunction.empty())
         return makeError(ErrorKind::Unsupported,
                          "{}: no shader-library function (docs/engine.md), so no mesh preview",
                          info.name);
-    auto context = gl::EglContext::shared();
-    if (!context) return context.error();
-    gl::EglContext::Scope scope(**context);
+    auto state = std::make_unique<State>();
+    state->info = &info;
+    state->params = params;
+    state->maps = maps;
+    state->surface = surface;
     auto fragment = fragmentText(info);
     if (!fragment) return fragment.error();
     auto program = gl::graphicsProgramFromText(
         fmt::format("mesh preview {}", info.name),
         "#version 330 core\n" + std::string(gl::shaderSource("preview_vertex.glsl")), *fragment);
     if (!program) return program.error();
+    state->program = std::move(*program);
     auto textures = gl::libraryTextures(info, surface->heightfield(), maps);
     if (!textures) return textures.error();
-    const gl::GlTexture normals = normalTexture(*surface);
-    const gl::GlTexture colors = color ? colorTexture(*color, *surface) : gl::GlTexture();
+    state->textures = std::move(*textures);
+    state->normals = normalTexture(*surface);
+    if (color) state->colors = colorTexture(*color, *surface);
+    return MeshPreview(std::move(state));
+}
+
+void MeshPreview::setMesh(const Mesh& mesh) {
+    m_state->mesh = upload(mesh);
+    m_state->top = topOf(mesh);
+    m_state->meanUvScale = meanUvScale(mesh);
+}
+
+void MeshPreview::draw(const Camera& camera, const MeshRenderSettings& settings) const {
+    const State& st = *m_state;
+    const glm::mat4 clip = clipFromWorld(camera);
+    const GLuint p = st.program.id();
+    glUseProgram(p);
+    auto uniform = [&](const char* name) { return glGetUniformLocation(p, name); };
+    glUniformMatrix4fv(uniform("clipFromWorld"), 1, GL_FALSE, &clip[0][0]);
+    glUniform3fv(uniform("eye"), 1, &camera.eye().x);
+    const vec3 light = glm::normalize(settings.towardsLight);
+    glUniform3fv(uniform("towardsLight"), 1, &light.x);
+    glUniform1i(uniform("shadows"), settings.shadows ? 1 : 0);
+    glUniform1i(uniform("hasColor"), st.colors.id() ? 1 : 0);
+    glUniform1f(uniform("exposure"), settings.exposure);
+    glUniform1f(uniform("specular"), settings.specular);
+    gl::LibraryParams lp = gl::libraryParams(*st.info, st.params, st.maps);
+    lp.midLevel = settings.midLevel;
+    gl::setLibraryUniforms(p, "params", *st.surface, lp);
+    gl::bindLibraryTextures(p, *st.info, st.textures);
+    const int unit = int(st.textures.size());
+    glBindTextureUnit(GLuint(unit), st.normals.id());
+    glUniform1i(uniform("normalMap"), unit);
+    glBindTextureUnit(GLuint(unit + 1), st.colors.id());
+    glUniform1i(uniform("colorMap"), unit + 1);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDisable(GL_CULL_FACE);
+    auto drawBuffers = [&](const MeshBuffers& buffers, MeshPixel object, float tiles) {
+        glUniform1f(uniform("tiles"), tiles);
+        glUniform1i(uniform("object"), int(object));
+        glBindVertexArray(buffers.vertexArray.id());
+        glDrawElements(GL_TRIANGLES, buffers.count, GL_UNSIGNED_INT, nullptr);
+        glBindVertexArray(0);
+    };
+    drawBuffers(st.mesh, MeshPixel::Relief, settings.tiles);
+    if (settings.crossingHeight) {
+        const MeshBuffers square =
+            upload(crossingSquare(crossingZFrom(st.top, st.meanUvScale, *st.surface, settings)));
+        drawBuffers(square, MeshPixel::Crossing, 1.0f);
+    }
+    glUseProgram(0);
+}
+
+Result<MeshImage> renderMesh(const TechniqueInfo& info, const ParamValues& params,
+                             const TechniqueMaps& maps, std::shared_ptr<const Surface> surface,
+                             const Mesh& mesh, const ImageRgb8* color,
+                             const MeshRenderSettings& settings) {
+    auto context = gl::EglContext::shared();
+    if (!context) return context.error();
+    gl::EglContext::Scope scope(**context);
+    auto preview = MeshPreview::create(info, params, maps, surface, color);
+    if (!preview) return preview.error();
+    preview->setMesh(mesh);
 
     const int w = settings.width, h = settings.height;
     GLuint id = 0;
@@ -202,53 +301,15 @@ Result<MeshImage> renderMesh(const TechniqueInfo& info, const ParamValues& param
     glNamedFramebufferDrawBuffers(id, 2, attachments);
     if (glCheckNamedFramebufferStatus(id, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
         return makeError(ErrorKind::Runtime, "mesh preview: framebuffer {}x{} incomplete", w, h);
-
-    const Camera camera = meshCamera(settings);
-    const glm::mat4 clip = clipFromWorld(camera);
-    const GLuint p = program->id();
-    glUseProgram(p);
-    auto uniform = [&](const char* name) { return glGetUniformLocation(p, name); };
-    glUniformMatrix4fv(uniform("clipFromWorld"), 1, GL_FALSE, &clip[0][0]);
-    glUniform3fv(uniform("eye"), 1, &camera.eye().x);
-    const vec3 light = glm::normalize(settings.towardsLight);
-    glUniform3fv(uniform("towardsLight"), 1, &light.x);
-    glUniform1i(uniform("shadows"), settings.shadows ? 1 : 0);
-    glUniform1i(uniform("hasColor"), color ? 1 : 0);
-    glUniform1f(uniform("exposure"), settings.exposure);
-    glUniform1f(uniform("specular"), settings.specular);
-    gl::LibraryParams lp = gl::libraryParams(info, params, maps);
-    lp.midLevel = settings.midLevel;
-    gl::setLibraryUniforms(p, "params", *surface, lp);
-    gl::bindLibraryTextures(p, info, *textures);
-    const int unit = int(textures->size());
-    glBindTextureUnit(GLuint(unit), normals.id());
-    glUniform1i(uniform("normalMap"), unit);
-    glBindTextureUnit(GLuint(unit + 1), colors.id());
-    glUniform1i(uniform("colorMap"), unit + 1);
-
     glBindFramebuffer(GL_FRAMEBUFFER, id);
     glViewport(0, 0, w, h);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDisable(GL_CULL_FACE);
     const float background[4] = {0.10f, 0.11f, 0.13f, 1.0f}, nothing[4] = {kFarAway, 0, 0, 0};
     const float far = 1.0f;
     glClearBufferfv(GL_COLOR, 0, background);
     glClearBufferfv(GL_COLOR, 1, nothing);
     glClearBufferfv(GL_DEPTH, 0, &far);
-    std::vector<std::pair<Mesh, int>> draws;
-    draws.emplace_back(mesh, int(MeshPixel::Relief));
-    if (settings.crossingHeight)
-        draws.emplace_back(crossingSquare(crossingZ(mesh, *surface, settings)),
-                           int(MeshPixel::Crossing));
-    for (const auto& [m, object] : draws) {
-        MeshBuffers buffers = upload(m);
-        glUniform1f(uniform("tiles"), object == int(MeshPixel::Relief) ? settings.tiles : 1.0f);
-        glUniform1i(uniform("object"), object);
-        glBindVertexArray(buffers.vertexArray.id());
-        glDrawElements(GL_TRIANGLES, buffers.count, GL_UNSIGNED_INT, nullptr);
-        glBindVertexArray(0);
-    }
+    preview->draw(meshCamera(settings), settings);
+
     std::vector<uint8_t> rgba(size_t(w) * size_t(h) * 4);
     std::vector<vec4> info4(size_t(w) * size_t(h));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
@@ -257,7 +318,6 @@ Result<MeshImage> renderMesh(const TechniqueInfo& info, const ParamValues& param
     glNamedFramebufferReadBuffer(id, GL_COLOR_ATTACHMENT1);
     glReadPixels(0, 0, w, h, GL_RGBA, GL_FLOAT, info4.data());
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glUseProgram(0);
     if (const std::string error = gl::takeGlError(); !error.empty())
         return makeError(ErrorKind::Runtime, "mesh preview {}: {}", info.name, error);
 

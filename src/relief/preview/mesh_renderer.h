@@ -53,8 +53,34 @@ struct MeshImage {
 // top, the ray the rasterizer uses).
 Camera meshCamera(const MeshRenderSettings& settings);
 
+// The GL side of the preview, for a caller with its own framebuffer (the viewer): the row's
+// program and textures, made once; setMesh uploads a mesh; draw draws it (and the crossing square)
+// into the bound framebuffer with depth testing, colour to draw buffer 0 (sRGB encoded) and
+// (distance, MeshPixel, steps) to draw buffer 1 when there is one. The viewport's aspect must be
+// the camera's. A GL context (an EglContext::Scope, or the window's) must be current throughout.
+class MeshPreview {
+public:
+    static Result<MeshPreview> create(const TechniqueInfo& info, const ParamValues& params,
+                                      const TechniqueMaps& maps,
+                                      std::shared_ptr<const Surface> surface,
+                                      const ImageRgb8* color);
+    ~MeshPreview();
+    MeshPreview(MeshPreview&&) noexcept;
+    MeshPreview& operator=(MeshPreview&&) noexcept;
+
+    void setMesh(const Mesh& mesh);
+    void draw(const Camera& camera, const MeshRenderSettings& settings) const;
+
+private:
+    struct State;
+    explicit MeshPreview(std::unique_ptr<State> state);
+    std::unique_ptr<State> m_state;
+};
+
 // Renders `mesh` with the row `info` (its shaderFunction; parameters resolved, maps built or
-// baked for `surface`). `color`: sRGB colour map (null: a neutral grey). Runtime errors for GL.
+// baked for `surface`) offscreen through the shared EGL context and reads it back. `color`: sRGB
+// colour map (null: a neutral grey). Unsupported for a row without a shader function, Runtime
+// for GL.
 Result<MeshImage> renderMesh(const TechniqueInfo& info, const ParamValues& params,
                              const TechniqueMaps& maps, std::shared_ptr<const Surface> surface,
                              const Mesh& mesh, const ImageRgb8* color,
