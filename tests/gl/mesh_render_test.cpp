@@ -28,7 +28,8 @@ fs::path freshDir(const std::string& name) {
 // A quad in the xz plane as glTF, its buffer inline (base64): positions, uvs, tangents (used when
 // withTangents) and indices; no normals (computed on loading from the triangles).
 std::string quadGltf(bool withTangents) {
-    return fmt::format(R"({{
+    return fmt::format(
+        R"({{
   "asset": {{"version": "2.0"}},
   "scene": 0, "scenes": [{{"nodes": [0]}}],
   "nodes": [{{"mesh": 0, "translation": [5, 0, 0]}}],
@@ -44,7 +45,10 @@ std::string quadGltf(bool withTangents) {
                 {{"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC4"}},
                 {{"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}}]
 }})",
-                       withTangents ? R"(, "TANGENT": 2)" : "", "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AACAPwAAAAAAAIA/AAAAAAAAgD8AAIA/AACAPwAAAAAAAAAAAACAPwAAAACamRk/AAAAAM3MTD8AAIC/mpkZPwAAAADNzEw/AACAv5qZGT8AAAAAzcxMPwAAgL+amRk/AAAAAM3MTD8AAIC/AAABAAIAAgABAAMA");
+        withTangents ? R"(, "TANGENT": 2)" : "",
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AACAPwAAAAAAAIA/AAAAAAAAgD8AAIA/"
+        "AACAPwAAAAAAAAAAAACAPwAAAACamRk/AAAAAM3MTD8AAIC/mpkZPwAAAADNzEw/"
+        "AACAv5qZGT8AAAAAzcxMPwAAgL+amRk/AAAAAM3MTD8AAIC/AAABAAIAAgABAAMA");
 }
 
 void expectWellFormed(const Mesh& mesh, const std::string& name, bool closed) {
@@ -177,7 +181,8 @@ TEST(MeshPreview, EveryBuiltinMeshWithTwoRows) {
         for (std::string_view name : kBuiltinMeshes) {
             SCOPED_TRACE(fmt::format("{} on {}", row, name));
             const Mesh mesh = *builtinMesh(name);
-            auto image = renderMesh(info, scene.params, scene.maps, surface, mesh, &*color, settings);
+            auto image =
+                renderMesh(info, scene.params, scene.maps, surface, mesh, &*color, settings);
             ASSERT_TRUE(image) << image.error().message;
             EXPECT_EQ(image->color.width, 96);
             EXPECT_EQ(image->color.height, 72);
@@ -223,7 +228,8 @@ TEST(MeshPreview, ClampedMapsHaveSilhouettes) {
         auto image = renderMesh(info, scene.params, scene.maps, surface, *builtinMesh("plane"),
                                 nullptr, settings);
         ASSERT_TRUE(image) << image.error().message;
-        for (MeshPixel p : image->object.pixels) covered[int(edge == EdgeMode::Repeat)] += p == MeshPixel::Relief;
+        for (MeshPixel p : image->object.pixels)
+            covered[int(edge == EdgeMode::Repeat)] += p == MeshPixel::Relief;
     }
     EXPECT_LT(covered[0], covered[1]);
     EXPECT_GT(covered[0], covered[1] / 2);
@@ -284,12 +290,11 @@ TEST(MeshPreview, DepthOffsetCrossingMatchesTheReference) {
         // rasterizer has no fragment where it would enter the box through a side.
         const Ray& r = rays[k];
         const vec3 top = r.origin + ((surface->depth() - r.origin.z) / r.direction.z) * r.direction;
-        const bool throughMesh = r.direction.z < 0.0f && top.x >= 0.0f && top.x <= W &&
-                                 top.y >= 0.0f && top.y <= H;
-        const float relief = hits[k].hit && throughMesh
-                                 ? hits[k].t / glm::length(texelOf(dir, 0.0f))
-                                 : kInfinity;
-        expected.pixels[k] = crossing < relief   ? MeshPixel::Crossing
+        const bool throughMesh =
+            r.direction.z < 0.0f && top.x >= 0.0f && top.x <= W && top.y >= 0.0f && top.y <= H;
+        const float relief =
+            hits[k].hit && throughMesh ? hits[k].t / glm::length(texelOf(dir, 0.0f)) : kInfinity;
+        expected.pixels[k] = crossing < relief    ? MeshPixel::Crossing
                              : relief < kInfinity ? MeshPixel::Relief
                                                   : MeshPixel::Background;
     }
@@ -314,9 +319,10 @@ TEST(MeshPreview, DepthOffsetCrossingMatchesTheReference) {
                             int(expected.at(x, y)));
             }
         }
-    std::printf("crossing: relief %zu px, crossing %zu px, background %zu px; %zu differ from the "
-                "reference, %zu of them more than 1 px from it\n",
-                counts[1], counts[2], counts[0], differ, far);
+    std::printf(
+        "crossing: relief %zu px, crossing %zu px, background %zu px; %zu differ from the "
+        "reference, %zu of them more than 1 px from it\n",
+        counts[1], counts[2], counts[0], differ, far);
     // Both show in good numbers (the square lies below the mesh: only the depth offset shows it).
     EXPECT_GT(counts[1], size_t(settings.width * settings.height / 10));
     EXPECT_GT(counts[2], size_t(settings.width * settings.height / 10));
@@ -345,9 +351,11 @@ TEST(MeshPreview, CliErrorsWriteNothing) {
         testing::runCliCase(c, dir);
         EXPECT_FALSE(fs::exists(dir / "out.png")) << c.name;
     }
-    const testing::CliCase ok = {"cube", common + "--mesh cube --crossing-plane 0.5 --color gen "
-                                                  "--shadows --edge repeat --tiles 2 "
-                                                  "--depth-out {tmp}/depth.pfm",
+    const testing::CliCase ok = {"cube",
+                                 common +
+                                     "--mesh cube --crossing-plane 0.5 --color gen "
+                                     "--shadows --edge repeat --tiles 2 "
+                                     "--depth-out {tmp}/depth.pfm",
                                  0, "cone on mesh cube: 48x32", ""};
     testing::runCliCase(ok, dir);
     EXPECT_TRUE(fs::exists(dir / "out.png"));

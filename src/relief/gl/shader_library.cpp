@@ -28,7 +28,8 @@ Result<std::string> shaderLibraryText(std::string_view file) {
     if (!missing.empty())
         return makeError(ErrorKind::Runtime, "shader library: {} is not embedded", missing);
     std::string all;
-    for (const std::string& name : ordered) all += std::string(shaderSource("library/" + name)) + "\n";
+    for (const std::string& name : ordered)
+        all += std::string(shaderSource("library/" + name)) + "\n";
     return all;
 }
 
@@ -124,8 +125,7 @@ GlTexture floatTexture(int width, int height, int channels, const float* data) {
     glTextureStorage2D(id, 1, kFloatInternal[channels - 1], width, height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     if (data)
-        glTextureSubImage2D(id, 0, 0, 0, width, height, kFloatFormat[channels - 1], GL_FLOAT,
-                            data);
+        glTextureSubImage2D(id, 0, 0, 0, width, height, kFloatFormat[channels - 1], GL_FLOAT, data);
     glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     return GlTexture(id);

@@ -1,13 +1,12 @@
 #include <relief/preview/mesh.h>
-
-#include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <numbers>
 
 namespace relief::preview {
@@ -66,12 +65,12 @@ Mesh cube() {
         vec3 corner, a, b;
     };
     const Face faces[] = {
-        {{-1, -1, 1}, {2, 0, 0}, {0, 0, -2}},   // front (-y)
-        {{1, -1, 1}, {0, 2, 0}, {0, 0, -2}},    // right (+x)
-        {{1, 1, 1}, {-2, 0, 0}, {0, 0, -2}},    // back (+y)
-        {{-1, 1, 1}, {0, -2, 0}, {0, 0, -2}},   // left (-x)
-        {{-1, 1, 1}, {2, 0, 0}, {0, -2, 0}},    // top (+z)
-        {{-1, -1, -1}, {2, 0, 0}, {0, 2, 0}},   // bottom (-z)
+        {{-1, -1, 1}, {2, 0, 0}, {0, 0, -2}},  // front (-y)
+        {{1, -1, 1}, {0, 2, 0}, {0, 0, -2}},   // right (+x)
+        {{1, 1, 1}, {-2, 0, 0}, {0, 0, -2}},   // back (+y)
+        {{-1, 1, 1}, {0, -2, 0}, {0, 0, -2}},  // left (-x)
+        {{-1, 1, 1}, {2, 0, 0}, {0, -2, 0}},   // top (+z)
+        {{-1, -1, -1}, {2, 0, 0}, {0, 2, 0}},  // bottom (-z)
     };
     for (const Face& f : faces) {
         addQuad(m, f.corner, f.a, f.b);
@@ -150,8 +149,8 @@ Result<AccessorBytes> accessorBytes(const tinygltf::Model& model, int index, int
     const size_t stride = view.byteStride ? view.byteStride : element;
     const size_t begin = view.byteOffset + a.byteOffset;
     if (begin > data.size() || a.count > data.size() ||
-        (a.count > 0 && (data.size() - begin < element ||
-                         (a.count - 1) * stride > data.size() - begin - element)))
+        (a.count > 0 &&
+         (data.size() - begin < element || (a.count - 1) * stride > data.size() - begin - element)))
         return bad("runs past its buffer");
     return AccessorBytes{data.data() + begin, stride, a.count, a.componentType, size};
 }
@@ -165,11 +164,16 @@ Result<std::vector<float>> readAccessor(const tinygltf::Model& model, int index,
     out.reserve(bytes->count * size_t(components));
     for (size_t k = 0; k < bytes->count; ++k)
         for (int c = 0; c < components; ++c) {
-            const unsigned char* p = bytes->first + k * bytes->stride + size_t(c * bytes->componentSize);
+            const unsigned char* p =
+                bytes->first + k * bytes->stride + size_t(c * bytes->componentSize);
             float value = 0.0f;
             switch (bytes->componentType) {
-                case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&value, p, 4); break;
-                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: value = float(*p) / 255.0f; break;
+                case TINYGLTF_COMPONENT_TYPE_FLOAT:
+                    std::memcpy(&value, p, 4);
+                    break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                    value = float(*p) / 255.0f;
+                    break;
                 case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
                     uint16_t u;
                     std::memcpy(&u, p, 2);
@@ -220,7 +224,8 @@ void collectInstances(const tinygltf::Model& model, int node, const glm::mat4& p
             local *= glm::mat4_cast(glm::quat(float(n.rotation[3]), float(n.rotation[0]),
                                               float(n.rotation[1]), float(n.rotation[2])));
         if (n.scale.size() == 3)
-            local = glm::scale(local, vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
+            local =
+                glm::scale(local, vec3(float(n.scale[0]), float(n.scale[1]), float(n.scale[2])));
     }
     const glm::mat4 world = parent * local;
     if (n.mesh == mesh) out.push_back(world);
@@ -236,7 +241,8 @@ void computeTangentFrames(Mesh& mesh, bool keepGivenTangents) {
     std::vector<float> weight(n, 0.0f);
     for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
         const uint32_t i[3] = {mesh.indices[k], mesh.indices[k + 1], mesh.indices[k + 2]};
-        const MeshVertex &a = mesh.vertices[i[0]], &b = mesh.vertices[i[1]], &c = mesh.vertices[i[2]];
+        const MeshVertex &a = mesh.vertices[i[0]], &b = mesh.vertices[i[1]],
+                         &c = mesh.vertices[i[2]];
         const vec3 e1 = b.position - a.position, e2 = c.position - a.position;
         const vec2 t1 = b.uv - a.uv, t2 = c.uv - a.uv;
         const float det = t1.x * t2.y - t2.x * t1.y;
@@ -273,7 +279,8 @@ void normalizeMesh(Mesh& mesh) {
     }
     const vec3 centre = 0.5f * (lo + hi);
     float radius = 0.0f;
-    for (const MeshVertex& v : mesh.vertices) radius = std::max(radius, glm::length(v.position - centre));
+    for (const MeshVertex& v : mesh.vertices)
+        radius = std::max(radius, glm::length(v.position - centre));
     const float s = radius > 0.0f ? 1.0f / radius : 1.0f;
     for (MeshVertex& v : mesh.vertices) {
         v.position = (v.position - centre) * s;
@@ -283,10 +290,14 @@ void normalizeMesh(Mesh& mesh) {
 
 Result<Mesh> builtinMesh(std::string_view name) {
     Mesh mesh;
-    if (name == "plane") mesh = plane();
-    else if (name == "cube") mesh = cube();
-    else if (name == "sphere") mesh = sphere();
-    else if (name == "cylinder") mesh = cylinder();
+    if (name == "plane")
+        mesh = plane();
+    else if (name == "cube")
+        mesh = cube();
+    else if (name == "sphere")
+        mesh = sphere();
+    else if (name == "cylinder")
+        mesh = cylinder();
     else
         return makeError(ErrorKind::BadArgument,
                          "--mesh '{}': expected plane, cube, sphere, cylinder or a .gltf/.glb file",
@@ -302,10 +313,9 @@ Result<Mesh> loadGltf(const std::string& path) {
         return makeError(ErrorKind::Io, "{}: cannot open (no such file)", path);
     tinygltf::TinyGLTF loader;
     // The file's images are not used (the heightfield's maps texture the mesh).
-    loader.SetImageLoader(
-        [](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*,
-           int, void*) { return true; },
-        nullptr);
+    loader.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                             const unsigned char*, int, void*) { return true; },
+                          nullptr);
     tinygltf::Model model;
     std::string error, warning;
     const bool binary = path.size() >= 4 && path.substr(path.size() - 4) == ".glb";
@@ -319,7 +329,8 @@ Result<Mesh> loadGltf(const std::string& path) {
     for (size_t node = 0; node < model.nodes.size(); ++node) {
         bool isChild = false;
         for (const tinygltf::Node& n : model.nodes)
-            isChild |= std::find(n.children.begin(), n.children.end(), int(node)) != n.children.end();
+            isChild |=
+                std::find(n.children.begin(), n.children.end(), int(node)) != n.children.end();
         if (!isChild) collectInstances(model, int(node), glm::mat4(1.0f), 0, instances);
     }
     if (instances.empty()) instances.push_back(glm::mat4(1.0f));
@@ -339,7 +350,8 @@ Result<Mesh> loadGltf(const std::string& path) {
             if (!uvs) return uvs.error();
             const size_t count = positions->size() / 3;
             if (uvs->size() / 2 != count)
-                return makeError(ErrorKind::InvalidInput, "{}: POSITION and TEXCOORD_0 differ in count", path);
+                return makeError(ErrorKind::InvalidInput,
+                                 "{}: POSITION and TEXCOORD_0 differ in count", path);
             std::vector<float> normals, tangents;
             if (attribute("NORMAL") >= 0) {
                 auto n = readAccessor(model, attribute("NORMAL"), 3, path, "NORMAL");
@@ -360,13 +372,14 @@ Result<Mesh> loadGltf(const std::string& path) {
                                                     (*positions)[3 * k + 2], 1.0f));
                 v.uv = vec2((*uvs)[2 * k], (*uvs)[2 * k + 1]);
                 if (normals.size() == 3 * count)
-                    v.normal = glm::normalize(normalMatrix * vec3(normals[3 * k], normals[3 * k + 1],
-                                                                  normals[3 * k + 2]));
+                    v.normal =
+                        glm::normalize(normalMatrix * vec3(normals[3 * k], normals[3 * k + 1],
+                                                           normals[3 * k + 2]));
                 if (tangents.size() == 4 * count)
-                    v.tangent = glm::vec4(glm::normalize(linear * vec3(tangents[4 * k],
-                                                                       tangents[4 * k + 1],
-                                                                       tangents[4 * k + 2])),
-                                          tangents[4 * k + 3] < 0 ? -1.0f : 1.0f);
+                    v.tangent =
+                        glm::vec4(glm::normalize(linear * vec3(tangents[4 * k], tangents[4 * k + 1],
+                                                               tangents[4 * k + 2])),
+                                  tangents[4 * k + 3] < 0 ? -1.0f : 1.0f);
                 mesh.vertices.push_back(v);
             }
             std::vector<uint32_t> indices;
@@ -379,7 +392,8 @@ Result<Mesh> loadGltf(const std::string& path) {
             }
             for (uint32_t i : indices) {
                 if (i >= count)
-                    return makeError(ErrorKind::InvalidInput, "{}: index {} past {} vertices", path, i, count);
+                    return makeError(ErrorKind::InvalidInput, "{}: index {} past {} vertices", path,
+                                     i, count);
                 mesh.indices.push_back(first + i);
             }
             if (normals.size() != 3 * count)  // flat normals from the triangles, summed
@@ -397,8 +411,10 @@ Result<Mesh> loadGltf(const std::string& path) {
         return makeError(ErrorKind::InvalidInput,
                          "{}: the first mesh has no triangles with POSITION and TEXCOORD_0", path);
     for (MeshVertex& v : mesh.vertices)
-        if (glm::dot(v.normal, v.normal) > 0) v.normal = glm::normalize(v.normal);
-        else v.normal = vec3(0, 0, 1);
+        if (glm::dot(v.normal, v.normal) > 0)
+            v.normal = glm::normalize(v.normal);
+        else
+            v.normal = vec3(0, 0, 1);
     computeTangentFrames(mesh, tangentsGiven);
     normalizeMesh(mesh);
     return mesh;

@@ -4,12 +4,11 @@
 #include <relief/gl/shader_sources.h>
 #include <relief/preview/mesh_renderer.h>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstddef>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace relief::preview {
 
@@ -35,19 +34,18 @@ Result<std::string> fragmentText(const TechniqueInfo& info) {
         samplers += fmt::format("uniform sampler2D {};\n", s.name);
         arguments += std::string(s.name) + ", ";
     }
-    return fmt::format("#version 330 core\n{}\n{}#define RELIEF_TRACE(uv, v, p) {}({}uv, v, p)\n"
-                       "#define RELIEF_SHADOW(hit, l, p) {}Shadow({}hit, l, p)\n#line 1\n{}",
-                       *library, samplers, info.shaderFunction, arguments, info.shaderFunction,
-                       arguments, gl::shaderSource("preview_fragment.glsl"));
+    return fmt::format(
+        "#version 330 core\n{}\n{}#define RELIEF_TRACE(uv, v, p) {}({}uv, v, p)\n"
+        "#define RELIEF_SHADOW(hit, l, p) {}Shadow({}hit, l, p)\n#line 1\n{}",
+        *library, samplers, info.shaderFunction, arguments, info.shaderFunction, arguments,
+        gl::shaderSource("preview_fragment.glsl"));
 }
 
 GLenum wrapOf(const Surface& surface) {
     return surface.edge() == EdgeMode::Repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
 }
 
-int mipLevels(int width, int height) {
-    return std::bit_width(unsigned(std::max(width, height)));
-}
+int mipLevels(int width, int height) { return std::bit_width(unsigned(std::max(width, height))); }
 
 // Trilinear, mipmapped, wrapped as the surface.
 void filtered(GLuint id, const Surface& surface) {
@@ -112,8 +110,10 @@ MeshBuffers upload(const Mesh& mesh) {
     const struct {
         GLint size;
         size_t offset;
-    } attributes[] = {{3, offsetof(MeshVertex, position)}, {3, offsetof(MeshVertex, normal)},
-                      {2, offsetof(MeshVertex, uv)},       {4, offsetof(MeshVertex, tangent)},
+    } attributes[] = {{3, offsetof(MeshVertex, position)},
+                      {3, offsetof(MeshVertex, normal)},
+                      {2, offsetof(MeshVertex, uv)},
+                      {4, offsetof(MeshVertex, tangent)},
                       {2, offsetof(MeshVertex, uvScale)}};
     for (GLuint k = 0; k < 5; ++k) {
         glVertexArrayAttribFormat(id, k, attributes[k].size, GL_FLOAT, GL_FALSE,

@@ -23,15 +23,16 @@ namespace relief::preview {
 
 struct MeshRenderSettings {
     int width = 800, height = 600;
-    OrbitView view;                  // around the origin, distance in mesh diameters (2 units)
+    OrbitView view;  // around the origin, distance in mesh diameters (2 units)
     vec3 towardsLight = vec3(0, 0, 1);
-    bool shadows = true;             // the row's Shadow function toward the light
-    float tiles = 1.0f;              // uv scale: the map repeats this often across a face
-    float midLevel = 1.0f;           // ReliefParams::midLevel: 1 = the mesh is the relief's top
-    float exposure = 0.0f;           // stops
-    float specular = 0.25f;          // strength of the highlight
+    bool shadows = true;     // the row's Shadow function toward the light
+    float tiles = 1.0f;      // uv scale: the map repeats this often across a face
+    float midLevel = 1.0f;   // ReliefParams::midLevel: 1 = the mesh is the relief's top
+    float exposure = 0.0f;   // stops
+    float specular = 0.25f;  // strength of the highlight
     // A horizontal square (side 2.4 mesh units) through the mesh's top point lowered by
-    // (1 − h) × the relief's depth there: with h in [0, 1] it cuts the relief of the topmost face.
+    // (midLevel − h) × the relief's depth (h in [0, 1], 0 = the relief's bottom): it cuts the
+    // relief of the topmost face.
     std::optional<float> crossingHeight;
 };
 
@@ -59,7 +60,7 @@ Camera meshCamera(const MeshRenderSettings& settings);
 // (distance, MeshPixel, steps) to draw buffer 1 when there is one. The viewport's aspect must be
 // the camera's. A GL context (an EglContext::Scope, or the window's) must be current throughout.
 class MeshPreview {
-public:
+  public:
     static Result<MeshPreview> create(const TechniqueInfo& info, const ParamValues& params,
                                       const TechniqueMaps& maps,
                                       std::shared_ptr<const Surface> surface,
@@ -71,7 +72,7 @@ public:
     void setMesh(const Mesh& mesh);
     void draw(const Camera& camera, const MeshRenderSettings& settings) const;
 
-private:
+  private:
     struct State;
     explicit MeshPreview(std::unique_ptr<State> state);
     std::unique_ptr<State> m_state;
