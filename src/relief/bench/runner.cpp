@@ -600,14 +600,12 @@ void runPaper(const RunOptions& o, const BenchConfig& paper) {
         orFail(outputs.addText(o.markdownPath, pageWithLinksFrom(fs::absolute(o.markdownPath).parent_path())));
     orFail(outputs.commit());
     if (Progress::quiet()) return;
-    int agree = 0, disagree = 0;
-    for (const ClaimResult& c : claims) {
-        agree += c.verdict == "agrees";
-        disagree += c.verdict == "disagrees";
-    }
-    std::cout << fmt::format("\n{}: {} claims, {} agree, {} disagree, {} not measured\nwrote {}/report.md, claims.json{}\n",
-                             o.preset, claims.size(), agree, disagree, int(claims.size()) - agree - disagree, o.outDir,
-                             o.markdownPath.empty() ? "" : ", " + o.markdownPath);
+    std::map<std::string, int> verdicts;
+    for (const ClaimResult& c : claims) ++verdicts[c.verdict];
+    std::string counts;
+    for (const auto& [verdict, n] : verdicts) counts += fmt::format("{}{} {}", counts.empty() ? "" : ", ", n, verdict);
+    std::cout << fmt::format("\n{}: {} claims: {}\nwrote {}/report.md, claims.json{}\n", o.preset, claims.size(),
+                             counts, o.outDir, o.markdownPath.empty() ? "" : ", " + o.markdownPath);
 }
 
 }  // namespace

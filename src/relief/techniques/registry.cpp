@@ -200,7 +200,16 @@ constexpr ClaimSpec kQdmClaims[] = {
 constexpr StudySpec kQdmStudies[] = {
     {.name = "qdm", .description = "the QDM paper's page: its claims judged by qdm-claims and qdm-height-ratio",
      .kind = StudyKind::Paper,
-     .paperNotes = "Quadratic displacement maps (Kiglics et al. 2023): the paper's claims, measured",
+     .paperNotes = "Quadratic displacement maps (Kiglics et al. 2023): the paper's claims, measured\n\n"
+                   "The paper's own comparison is its QDM (`qdm:variant=1`: the published map and Algorithm 1, "
+                   "no exact finish) against Dummer's cone step mapping (`cone:variant=1`); ours is the safe qdm "
+                   "against the safe cone. Departures from the paper's setup: CPU rays instead of a GTX 1060M "
+                   "(speed claims are CPU ratios on the same rays, steps and errors do not depend on the "
+                   "hardware); the nine maps at 512² instead of 1024² (peaks6 at 256²) because the published "
+                   "builder takes minutes per 1024² map on gently rising ground on 2 cores; 320×256 rays per "
+                   "view instead of 1920×1080; errors against the exact reference instead of 200 linear + 20 "
+                   "binary steps; `cone:variant=1` ends with our exact cell test where Dummer's has none, which "
+                   "favours the cone in the error claims.",
      .parts = kQdmPageParts, .claims = kQdmClaims, .paperFile = "quadratic-displacement-maps.md"},
     {.name = "qdm-claims", .description = "the paper's QDM vs Dummer's cones and safe qdm vs safe cones, 9 maps, 8 elevations, caps 4-200",
      .maps = kQdmClaimMaps, .techniques = kQdmClaimRows, .caps = kQdmPaperCaps, .width = 320, .height = 256,
@@ -305,7 +314,7 @@ constexpr float kCurvesTable1Elevations[] = {65.1f, 15.3f};  // unslanted, slant
 // The page (docs/papers/curves.md): Table 1's counts (sine map, 2 samples per pixel) as ratios the
 // paper states in §6, unslanted (65.1°) and slanted (15.3°), generous (ε = 0.25) and strict (0.001).
 // The paper gives neither the sine's amplitude nor its image size or camera; the claims are judged
-// on the gentle sine (depth 0.02·N, the look of its Fig. 8(d)), the steep one (0.1·N) is the
+// on the gentle sine (depth 0.02·N, as docs/curves.md's Table 1), the steep one (0.1·N) is the
 // second part, for comparison. The method has no safe variant: every claim is the paper's renderer.
 constexpr std::string_view kCurvesPageParts[] = {"curves-table1-gentle", "curves-table1"};
 constexpr ClaimMeasure kCurvesGenerous{"curves:epsilon=0.25"};
@@ -378,7 +387,14 @@ constexpr ClaimSpec kCurvesClaims[] = {
 constexpr StudySpec kCurvesStudies[] = {
     {.name = "curves", .description = "the visibility-curves paper's page: Table 1's claims judged by curves-table1",
      .kind = StudyKind::Paper,
-     .paperNotes = "Geometric displacement on plane and sphere by visibility curves: the paper's claims, measured",
+     .paperNotes = "Geometric displacement on plane and sphere by visibility curves: the paper's claims, measured\n\n"
+                   "Table 1's counts (sine map, 2 samples per pixel), as the ratios §6 states them. The paper "
+                   "gives neither its image size, its camera nor the sine's amplitude: the claims are judged on "
+                   "a gentle sine (depth 0.02·N, part curves-table1-gentle, as docs/curves.md's Table 1 is) at "
+                   "640×480, unslanted = 65.1°, slanted = 15.3° (lower than the paper's slanted view, which "
+                   "covers three times our pixels); the steep sine (0.1·N) is the second part. The method has no "
+                   "safe variant here; the wrong-pixel claims compare each sample with the exact reference on "
+                   "its own ray. docs/curves.md discusses the counts.",
      .parts = kCurvesPageParts, .claims = kCurvesClaims, .paperFile = "geometric-displacement-plane-sphere.md"},
     {.name = "curves-table1-gentle", .description = "curves-table1 on the gentle sine (depth 0.02·N), as docs/curves.md's Table 1",
      .maps = kCurvesPaperMaps, .techniques = kCurvesTable1Rows, .elevations = kCurvesTable1Elevations,
