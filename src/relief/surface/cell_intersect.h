@@ -4,19 +4,24 @@
 // "height above plane" is linear in t, which makes the test two sign checks and one division.
 #include <relief/surface/surface.h>
 
+#include <algorithm>
+
 namespace relief {
 
-// Smallest t in [ta, tb] where the ray is on or below `plane`, or kInfinity.
+// Smallest t in [ta, tb] where the ray is on or below `plane`, or kInfinity. The height above
+// the plane is A + B·t; A subtracts the plane's height under the origin from the origin's, which
+// cancels badly in float for far origins and grazing rays (t error ≈ ulp(z) / |B|, 1e-4 texel at
+// t ≈ 140), so A, B and the root are computed in double and only the root is rounded to float.
 inline float firstHitOnPlane(const CellPlane& plane, const vec3& origin, const vec3& direction,
                              float cellX, float cellY, float ta, float tb) {
-    const float ou = origin.x - cellX, ov = origin.y - cellY;
-    const float above0 = origin.z + ta * direction.z -
-                         plane.at(ou + ta * direction.x, ov + ta * direction.y);
-    if (above0 <= 0.0f) return ta;
-    const float above1 = origin.z + tb * direction.z -
-                         plane.at(ou + tb * direction.x, ov + tb * direction.y);
-    if (above1 > 0.0f) return kInfinity;
-    return ta + (tb - ta) * (above0 / (above0 - above1));
+    const double ou = double(origin.x) - double(cellX), ov = double(origin.y) - double(cellY);
+    const double a = double(origin.z) - (double(plane.z0) + double(plane.sx) * ou + double(plane.sy) * ov);
+    const double b = double(direction.z) - double(plane.sx) * double(direction.x) -
+                     double(plane.sy) * double(direction.y);
+    if (a + b * double(ta) <= 0.0) return ta;
+    if (a + b * double(tb) > 0.0) return kInfinity;
+    // above(ta) > 0 >= above(tb): b < 0 and the root lies in (ta, tb].
+    return std::clamp(float(-a / b), ta, tb);
 }
 
 // Smallest t in [ta, tb] where the ray is on or below S in cell (ci, cj), or kInfinity.
