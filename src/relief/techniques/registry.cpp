@@ -377,6 +377,23 @@ constexpr ClaimSpec kQuadtreeClaims[] = {
      .whyDisagrees = "Relief mapping (a fixed step count, whatever the depth) is faster at this depth on this "
                      "CPU; the quadtree's steps grow with the depth."},
 };
+constexpr std::string_view kQuadtreePageNotes =
+    "Schroders & van Gulik 2006, Table 1 and Figs. 8-10, like for like on this CPU. Paper variant: "
+    "`quadtree:box-surface=2`, the paper's surface (texel boxes at the sample height) walked by its Algorithm 1 "
+    "(exact on the boxes, CPU only); safe variant: `quadtree` on S (exact). Relief mapping is `linear` run the "
+    "paper's way (§6): Policarpo's 256² step count, 10 linear + 5 binary steps (his published shader; the paper "
+    "names no number), the linear steps doubled and one binary step added per doubling of the side: 20+6 at "
+    "512², 40+7 at 1024², 80+8 at 2048², one row per size, each judged on its own size. Our `linear` leaves its "
+    "linear loop at the first sample below the surface; the paper's GPU loop ran every step. Surface: fbm "
+    "(periodic value noise down to the texel) as the paper's \"highly irregular surface\", depth 0.1 N (Fig. 9's "
+    "depths: 0.05 N and 0.2 N at 1024²); Fig. 10 adds walls and terraces. Views: the 8 standard elevations, "
+    "2.9° to 90° at azimuth 30° (\"from top down to grazing\"); a claim's ratio is the geometric mean of the "
+    "per-view ratios (the paper averages fps over the angles). Speed is Mrays/s on 2 threads of this shared "
+    "machine, not fps on two GeForce 6600GT in SLI. GPU: not measured (no GPU machine for this run; the paper "
+    "variant has no GLSL). Wrong pixels: hit/miss differs from `exact` (S) or |Δt| > 0.5 texel; for the paper "
+    "variant they include where its boxes differ from S, so Fig. 8's \"not found\" is read as wrong at the cap "
+    "(a cut walk reports its cursor). Cut relative to the paper: 320×256 primary rays instead of a screen, best "
+    "of 3 repeats; Figs. 8 and 9 as numbers rather than images; Fig. 11 (perceived height) is not measured.";
 constexpr StudySpec kQuadtreeStudies[] = {
     {.name = "quadtree-scaling", .description = "steps per ray vs map size 256²-8192² and the earth SRTM map",
      .kind = StudyKind::Scaling, .maps = kQuadtreeScalingMaps, .techniques = kQuadtreeScalingRows,
