@@ -198,15 +198,8 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     return orFail(loadColorImage(path));
 }
 
-// --color FILE, or `--color gen`: the generator's own colour map (bricks), at the source's size.
 std::optional<ImageRgb8> loadColorMap(const RenderOptions& o) {
-    if (o.colorPath != "gen") return loadOptionalImage(o.colorPath);
-    if (o.surface.source.find('@') != std::string::npos)
-        throw CommandFailed{makeError(ErrorKind::Unsupported,
-                                      "--color gen: {}: a window of a generator has no generated "
-                                      "colour map (crop the image instead)",
-                                      o.surface.source)};
-    return orFail(loadGeneratorColor(o.surface.source));
+    return orFail(loadColorOption(o.colorPath, o.surface.source));
 }
 
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.

@@ -113,7 +113,7 @@ void runView(const ViewOptions& o) {
     const auto hf = orFail(loadHeightfield(o.surface));
     v.surface = orFail(makeSurface(o.surface, hf));
     v.sourceName = o.surface.source;
-    if (!o.colorPath.empty()) v.color = orFail(loadColorImage(o.colorPath));
+    v.color = orFail(loadColorOption(o.colorPath, o.surface.source));
     v.makeTracer = glTracerFactory(v.surface, o.technique.mapsPath);
     if (mesh) {
         v.meshName = o.mesh;
@@ -148,7 +148,8 @@ void addViewCommand(CLI::App& app) {
     addTechniqueOptions(*cmd, o->technique);
     cmd->remove_option(cmd->get_option("--backend"));  // always gl
     cmd->get_option("--technique")->description("first technique shown (one with a GLSL tracer)");
-    cmd->add_option("--color", o->colorPath, "colour map over the heightfield (PNG/JPEG)");
+    cmd->add_option("--color", o->colorPath,
+                    "colour map over the heightfield (PNG/JPEG), or gen: the generator's own");
     addCameraOptions(*cmd, o->view, o->lightElevation, o->lightAzimuth,
                      {viewer::kMinDistance, viewer::kMaxDistance, 5.0f, 120.0f});
     cmd->add_flag("--shadows", o->shadows, "trace shadow rays with the same technique");

@@ -245,6 +245,24 @@ Result<std::unique_ptr<Tracer>> makeTracer(
     return createTracer(backend, info, *input);
 }
 
+Result<std::optional<ImageRgb8>> loadColorOption(const std::string& path,
+                                                 const std::string& source) {
+    if (path.empty()) return std::optional<ImageRgb8>();
+    if (path != "gen") {
+        auto image = loadColorImage(path);
+        if (!image) return image.error();
+        return std::optional<ImageRgb8>(std::move(*image));
+    }
+    if (source.find('@') != std::string::npos)
+        return makeError(ErrorKind::Unsupported,
+                         "--color gen: {}: a window of a generator has no generated colour map "
+                         "(crop the image instead)",
+                         source);
+    auto image = loadGeneratorColor(source);
+    if (!image) return image.error();
+    return std::optional<ImageRgb8>(std::move(*image));
+}
+
 Result<PreviewInput> previewInput(const TechniqueInfo& info, const Overrides& overrides,
                                   const std::string& mapsPath,
                                   std::shared_ptr<const Surface> surface) {

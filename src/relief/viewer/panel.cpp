@@ -21,7 +21,7 @@ constexpr float kTextWidthEms = 28.0f;  // long lines (device, map errors) wrap 
 constexpr float kWidgetWidthEms = 14.0f;
 constexpr float kPanelMargin = 8.0f;  // pixels between the panel and the window's edges
 constexpr float kMinDepthRatio = 1e-3f;  // the depth slider: this to kMaxDepthRatio × the width
-constexpr float kMaxDepthRatio = 1.0f;
+constexpr float kMaxDepthRatio = 0.5f;
 
 // Where text wraps, in the panel's coordinates: kTextWidthEms, or less in a narrow window.
 float g_wrapWidth = 0.0f;
@@ -68,9 +68,11 @@ bool techniqueCombo(ViewerState& state) {
 
 // --mesh: depth, tiling and the split; `actions` says what must be rebuilt.
 void materialWidgets(ViewerState& state, const PanelInfo& info, PanelActions& actions) {
-    const float maxDepth = kMaxDepthRatio * float(info.heightfieldSize.x);
-    ImGui::SliderFloat("depth", &state.depth, kMinDepthRatio * float(info.heightfieldSize.x), maxDepth, "%.3g texels",
-                       ImGuiSliderFlags_AlwaysClamp);
+    const float width = float(info.heightfieldSize.x);
+    // A deeper --depth than the range stays reachable.
+    const float maxDepth = std::max(kMaxDepthRatio * width, state.depth);
+    ImGui::SliderFloat("depth", &state.depth, kMinDepthRatio * width, maxDepth, "%.3g texels",
+                       ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
     tooltip("the relief's depth D in texels (maps are rebuilt when the slider is released)");
     actions.rebuildMaterial = ImGui::IsItemDeactivatedAfterEdit();
     actions.rebuildMaterial = ImGui::Checkbox("tiling", &state.tiling) || actions.rebuildMaterial;
