@@ -112,10 +112,10 @@ size_t differingPixels(const ImageRgb8& a, const ImageRgb8& b, int x0, int x1) {
     return n;
 }
 
-#define RELIEF_NEED_DISPLAY(prefix)                                                          \
-    const std::optional<std::string> prefix = displayPrefix();                               \
-    if (!prefix)                                                                             \
-        GTEST_SKIP() << "neither xvfb-run nor a DISPLAY (scripts/install-deps.sh installs xvfb)"
+#define RELIEF_NEED_DISPLAY(prefix)                            \
+    const std::optional<std::string> prefix = displayPrefix(); \
+    if (!prefix)                                               \
+    GTEST_SKIP() << "neither xvfb-run nor a DISPLAY (scripts/install-deps.sh installs xvfb)"
 
 TEST_F(Viewer, ScreenshotsShowTheRelief) {
     std::string prefix;
@@ -154,7 +154,7 @@ TEST_F(Viewer, EachBuiltinMeshIsCovered) {
         SCOPED_TRACE(mesh);
         const std::string name(mesh);
         const ImageRgb8 image =
-            screenshot(*prefix, name, "gen:peaks6:64x64 -t cone --shadows --mesh " + name,
+            screenshot(*prefix, name, "gen:peaks6:64x64 -t cone --shadows --tiles 2 --mesh " + name,
                        ivec2(240, 180));
         const Rgb8 background = image.at(0, 0);
         size_t covered = 0;
@@ -189,10 +189,8 @@ TEST_F(Viewer, SplitShowsATheLeftAndBTheRight) {
     const ivec2 size(240, 180);
     const std::string common = "gen:peaks6:64x64 --mesh sphere --depth-ratio 0.3 --elevation 10 ";
     const ImageRgb8 a = screenshot(*prefix, "a", common + "-t cone", size);
-    const ImageRgb8 b =
-        screenshot(*prefix, "b", common + "-t parallax", size);
-    const ImageRgb8 split =
-        screenshot(*prefix, "split", common + "-t cone --split parallax", size);
+    const ImageRgb8 b = screenshot(*prefix, "b", common + "-t parallax", size);
+    const ImageRgb8 split = screenshot(*prefix, "split", common + "-t cone --split parallax", size);
     constexpr int kLine = 2;  // the split line's half-width, and a pixel of margin
     const int half = size.x / 2;
     EXPECT_EQ(differingPixels(split, a, 0, half - kLine), 0u);
@@ -206,7 +204,8 @@ TEST_F(Viewer, SplitShowsATheLeftAndBTheRight) {
 TEST_F(Viewer, PanelTakesAtMostAThirdOfTheWidth) {
     RELIEF_NEED_DISPLAY(prefix);
     const ivec2 size(1024, 768);
-    for (const std::string args : {"gen:peaks6:64x64", "gen:peaks6:64x64 --mesh cube --split linear"}) {
+    for (const std::string args :
+         {"gen:peaks6:64x64", "gen:peaks6:64x64 --mesh cube --split linear"}) {
         SCOPED_TRACE(args);
         const ImageRgb8 without = screenshot(*prefix, "without", args, size);
         const ImageRgb8 with = screenshot(*prefix, "with", args + " --screenshot-panel", size);
@@ -214,6 +213,22 @@ TEST_F(Viewer, PanelTakesAtMostAThirdOfTheWidth) {
         EXPECT_GT(differingPixels(with, without, 0, third), 0u) << "no panel in the screenshot";
         EXPECT_EQ(differingPixels(with, without, third, size.x), 0u);
     }
+}
+
+// Folded, the panel is its title bar: nothing of it below the window's top rows.
+TEST_F(Viewer, AFoldedPanelIsItsTitleBar) {
+    RELIEF_NEED_DISPLAY(prefix);
+    const ivec2 size(480, 360);
+    constexpr int kMaxTitleRows = 40;
+    const std::string args = "gen:peaks6:64x64 --mesh plane --fold-panel";
+    const ImageRgb8 without = screenshot(*prefix, "without", args, size);
+    const ImageRgb8 with = screenshot(*prefix, "with", args + " --screenshot-panel", size);
+    size_t below = 0, title = 0;
+    for (int y = 0; y < size.y; ++y)
+        for (int x = 0; x < size.x; ++x)
+            (y < kMaxTitleRows ? title : below) += with.at(x, y) != without.at(x, y);
+    EXPECT_GT(title, 0u);
+    EXPECT_EQ(below, 0u);
 }
 
 TEST_F(Viewer, BadMeshesAreRefusedBeforeAWindowOpens) {
@@ -224,18 +239,16 @@ TEST_F(Viewer, BadMeshesAreRefusedBeforeAWindowOpens) {
     EXPECT_EQ(code("--mesh teapot"), 1) << readFile(log);
     EXPECT_NE(readFile(log).find("teapot"), std::string::npos) << readFile(log);
     EXPECT_EQ(code("--mesh " + (m_dir / "missing.gltf").string()), 2) << readFile(log);
-    {
-        std::ofstream(m_dir / "bad.gltf") << "{ not json";
-    }
+    { std::ofstream(m_dir / "bad.gltf") << "{ not json"; }
     EXPECT_EQ(code("--mesh " + (m_dir / "bad.gltf").string()), 3) << readFile(log);
     EXPECT_EQ(code("--mesh plane -t exact"), 5) << readFile(log);
-    EXPECT_NE(readFile(log).find("no shader-library function"), std::string::npos)
-        << readFile(log);
+    EXPECT_NE(readFile(log).find("no shader-library function"), std::string::npos) << readFile(log);
     EXPECT_EQ(code("--mesh plane --split nope"), 1) << readFile(log);
     EXPECT_EQ(code("--split cone"), 1) << readFile(log);  // --split without --mesh
     EXPECT_NE(readFile(log).find("--split: read with --mesh only"), std::string::npos)
         << readFile(log);
     EXPECT_EQ(code("--mesh plane --overlay steps"), 1) << readFile(log);
+    EXPECT_EQ(code("--screenshot-panel"), 1) << readFile(log);  // without --screenshot
     EXPECT_FALSE(fs::exists(m_dir / "relief-view-001.png"));
 }
 

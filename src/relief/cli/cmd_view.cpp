@@ -26,6 +26,7 @@ struct ViewOptions {
     int frames = 0;
     std::string screenshot;
     bool screenshotPanel = false;
+    bool foldPanel = false;
     int threads = 0;
     bool techniqueGiven = false;
     // --mesh and the options only it reads.
@@ -99,6 +100,9 @@ void runView(const ViewOptions& o) {
     if (!mesh && !o.meshGiven.empty())
         throw CommandFailed{makeError(ErrorKind::BadArgument, "{}: read with --mesh only",
                                       o.meshGiven.front())};
+    if (o.screenshotPanel && o.screenshot.empty())
+        throw CommandFailed{
+            {ErrorKind::BadArgument, "--screenshot-panel: read with --screenshot FILE only"}};
     if (mesh && o.overlay != "shading")
         throw CommandFailed{makeError(ErrorKind::BadArgument,
                                       "--overlay {}: not read with --mesh (it shows the shading)",
@@ -123,6 +127,7 @@ void runView(const ViewOptions& o) {
         v.tiles = o.tiles;
     }
     v.screenshotPanel = o.screenshotPanel;
+    v.panelFolded = o.foldPanel;
     v.view = o.view;
     v.lightElevationDeg = o.lightElevation;
     v.lightAzimuthDeg = o.lightAzimuth;
@@ -165,6 +170,7 @@ void addViewCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--screenshot", o->screenshot, "PNG of the last frame, without the panel");
     cmd->add_flag("--screenshot-panel", o->screenshotPanel, "--screenshot: with the panel over it");
+    cmd->add_flag("--fold-panel", o->foldPanel, "start with the panel folded (Tab unfolds it)");
     cmd->add_option("--mesh", o->mesh,
                     "show the material on a mesh (as relief render --mesh): plane, cube, sphere, "
                     "cylinder or FILE.gltf/.glb; -t defaults to " +
@@ -174,7 +180,8 @@ void addViewCommand(CLI::App& app) {
                     "--mesh: start with tiling on (repeat edges), the map this often per uv unit")
         ->check(finiteRange(1.0, 16.0));
     cmd->add_option("--split", o->split,
-                    "--mesh: start with the A/B split, this technique (defaults) on the right half");
+                    "--mesh: start with the A/B split, this technique (its defaults) on the "
+                    "right half");
     addThreadsOption(*cmd, o->threads);
     cmd->footer(
         "Mouse: drag to orbit, wheel for distance. Keys: S or F12 saves "

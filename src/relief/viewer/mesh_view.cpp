@@ -1,6 +1,5 @@
-#include <relief/viewer/mesh_view.h>
-
 #include <relief/gl/program.h>
+#include <relief/viewer/mesh_view.h>
 
 #include <chrono>
 

@@ -1,10 +1,8 @@
-#include <relief/viewer/panel.h>
-
-#include <relief/core/check.h>
-#include <relief/techniques/registry.h>
-
 #include <fmt/format.h>
 #include <imgui.h>
+#include <relief/core/check.h>
+#include <relief/techniques/registry.h>
+#include <relief/viewer/panel.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +17,7 @@ constexpr int kPixelScales[] = {1, 2, 4};
 constexpr const char* kPixelScaleNames[] = {"full", "1/2", "1/4"};
 constexpr float kTextWidthEms = 28.0f;  // long lines (device, map errors) wrap here
 constexpr float kWidgetWidthEms = 14.0f;
-constexpr float kPanelMargin = 8.0f;  // pixels between the panel and the window's edges
+constexpr float kPanelMargin = 8.0f;     // pixels between the panel and the window's edges
 constexpr float kMinDepthRatio = 1e-3f;  // the depth slider: this to kMaxDepthRatio × the width
 constexpr float kMaxDepthRatio = 0.5f;
 
@@ -58,8 +56,8 @@ bool rowCombo(const char* label, const TechniqueInfo*& technique, bool mesh) {
 }
 
 bool techniqueCombo(ViewerState& state) {
-    const bool changed = rowCombo(state.mesh ? "technique A" : "technique", state.technique,
-                                  state.mesh);
+    const bool changed =
+        rowCombo(state.mesh ? "technique A" : "technique", state.technique, state.mesh);
     if (changed) state.params = defaultParams(*state.technique);
     wrappedText(
         fmt::format("{}: {}", toString(state.technique->contract), state.technique->summary), true);
@@ -78,8 +76,8 @@ void materialWidgets(ViewerState& state, const PanelInfo& info, PanelActions& ac
     actions.rebuildMaterial = ImGui::Checkbox("tiling", &state.tiling) || actions.rebuildMaterial;
     tooltip("repeat the maps (edge mode repeat) and tile them across each face");
     if (state.tiling)
-        actions.redraw = ImGui::SliderFloat("tiles", &state.tiles, 1.0f, 16.0f, "%.1f per uv") ||
-                         actions.redraw;
+        actions.redraw =
+            ImGui::SliderFloat("tiles", &state.tiles, 1.0f, 16.0f, "%.1f per uv") || actions.redraw;
     actions.redraw = ImGui::Checkbox("A/B split", &state.split) || actions.redraw;
     tooltip("technique A on the left half, B on the right, each timed");
     if (state.split && !state.techniqueB) state.techniqueB = state.technique;
@@ -175,13 +173,14 @@ void frameNumbers(const PanelInfo& info) {
     }
     const Frame& frame = *info.frame;
     const ErrorStats& s = frame.stats;
-    ImGui::TextWrapped("%d x %d traced in %.1f ms, hits %.1f %%", info.tracedSize.x, info.tracedSize.y,
-                1000.0 * frame.seconds, s.pixels ? 100.0 * double(s.hits) / double(s.pixels) : 0.0);
+    ImGui::TextWrapped("%d x %d traced in %.1f ms, hits %.1f %%", info.tracedSize.x,
+                       info.tracedSize.y, 1000.0 * frame.seconds,
+                       s.pixels ? 100.0 * double(s.hits) / double(s.pixels) : 0.0);
     ImGui::TextWrapped("steps mean %.2f max %.0f, fetches mean %.1f", s.steps.mean, s.steps.max,
-                s.fetches.mean);
+                       s.fetches.mean);
     if (frame.hasReference)
         ImGui::TextWrapped("|t - t_exact| mean %.3g p95 %.3g max %.3g, wrong %.3f %%", s.error.mean,
-                    s.error.p95, s.error.max, 100.0 * s.wrongRate());
+                           s.error.p95, s.error.max, 100.0 * s.wrongRate());
 }
 
 void meshNumbers(const ViewerState& state, const PanelInfo& info) {
@@ -225,8 +224,7 @@ PanelActions drawPanel(ViewerState& state, const PanelInfo& info) {
     }
     ImGui::TextWrapped("%.*s  %d x %d, depth %.3g", int(info.source.size()), info.source.data(),
                        info.heightfieldSize.x, info.heightfieldSize.y, info.depth);
-    if (state.mesh)
-        ImGui::TextWrapped("on mesh %.*s", int(info.mesh.size()), info.mesh.data());
+    if (state.mesh) ImGui::TextWrapped("on mesh %.*s", int(info.mesh.size()), info.mesh.data());
     wrappedText(info.device, true);
     ImGui::PushItemWidth(std::min(ImGui::GetFontSize() * kWidgetWidthEms, 0.5f * maxWidth));
     if (ImGui::CollapsingHeader("technique", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -46,8 +46,8 @@ struct PanelInfo {
     std::string_view status;  // the last build, error or screenshot
     const Frame* frame = nullptr;
     ivec2 tracedSize{0, 0};
-    std::string_view mesh;                            // --mesh as given
-    double milliseconds[2] = {0.0, 0.0};              // --mesh: the last draw of A and of B
+    std::string_view mesh;                // --mesh as given
+    double milliseconds[2] = {0.0, 0.0};  // --mesh: the last draw of A and of B
 };
 
 struct PanelActions {

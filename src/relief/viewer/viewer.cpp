@@ -1,11 +1,10 @@
-#include <relief/viewer/viewer.h>
-
 #include <relief/gl/egl_context.h>
 #include <relief/gl/gl_tracer.h>
 #include <relief/io/image_write.h>
 #include <relief/techniques/registry.h>
 #include <relief/viewer/image_display.h>
 #include <relief/viewer/panel.h>
+#include <relief/viewer/viewer.h>
 #include <relief/viewer/window.h>
 
 #define GLFW_INCLUDE_NONE
@@ -47,6 +46,7 @@ class Viewer {
         m_state.view = options.view;
         m_state.lightElevationDeg = options.lightElevationDeg;
         m_state.lightAzimuthDeg = options.lightAzimuthDeg;
+        m_state.panelCollapsed = options.panelFolded;
         m_state.mesh = options.mesh.has_value();
         m_state.depth = options.surface->depth();
         // Tiling starts on with --tiles or --edge repeat (then once per uv unit, as render --mesh).
@@ -179,11 +179,11 @@ class Viewer {
         const auto start = std::chrono::steady_clock::now();
         MaterialSpec spec{technique, slot == 0 ? m_state.params : defaultParams(*technique),
                           m_state.depth, m_state.tiling};
-        const Status built =
-            m_meshView.build(slot, spec, m_options.makePreview, *m_options.mesh);
+        const Status built = m_meshView.build(slot, spec, m_options.makePreview, *m_options.mesh);
         if (!built) {
             m_status = fmt::format("'{}' failed: {}", name, built.error().message);
             const MaterialSpec& last = m_material[slot];
+            if (slot == 1 && !last.technique) m_state.split = false;  // nothing to show on B
             if (last.technique) {
                 (slot == 0 ? m_state.technique : m_state.techniqueB) = last.technique;
                 if (slot == 0) m_state.params = last.params;
