@@ -1,5 +1,6 @@
-#include <relief/gl/program.h>
 #include <relief/viewer/mesh_view.h>
+
+#include <relief/gl/program.h>
 
 #include <chrono>
 

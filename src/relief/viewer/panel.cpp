@@ -1,8 +1,10 @@
-#include <fmt/format.h>
-#include <imgui.h>
+#include <relief/viewer/panel.h>
+
 #include <relief/core/check.h>
 #include <relief/techniques/registry.h>
-#include <relief/viewer/panel.h>
+
+#include <fmt/format.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <cmath>

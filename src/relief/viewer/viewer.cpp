@@ -1,10 +1,11 @@
+#include <relief/viewer/viewer.h>
+
 #include <relief/gl/egl_context.h>
 #include <relief/gl/gl_tracer.h>
 #include <relief/io/image_write.h>
 #include <relief/techniques/registry.h>
 #include <relief/viewer/image_display.h>
 #include <relief/viewer/panel.h>
-#include <relief/viewer/viewer.h>
 #include <relief/viewer/window.h>
 
 #define GLFW_INCLUDE_NONE
