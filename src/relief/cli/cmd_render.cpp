@@ -198,15 +198,8 @@ std::optional<ImageRgb8> loadOptionalImage(const std::string& path) {
     return orFail(loadColorImage(path));
 }
 
-// --color FILE, or `--color gen`: the generator's own colour map (bricks), at the source's size.
 std::optional<ImageRgb8> loadColorMap(const RenderOptions& o) {
-    if (o.colorPath != "gen") return loadOptionalImage(o.colorPath);
-    if (o.surface.source.find('@') != std::string::npos)
-        throw CommandFailed{makeError(ErrorKind::Unsupported,
-                                      "--color gen: {}: a window of a generator has no generated "
-                                      "colour map (crop the image instead)",
-                                      o.surface.source)};
-    return orFail(loadGeneratorColor(o.surface.source));
+    return orFail(loadColorOption(o.colorPath, o.surface.source));
 }
 
 // Techniques whose maps serve only some views (e.g. a viewing-angle restriction) say so.
@@ -351,18 +344,9 @@ void meshRender(const RenderOptions& o) {
     const preview::Mesh mesh = orFail(preview::loadMesh(o.mesh));
     const TechniqueInfo* const row[] = {&info};
     const Overrides overrides = orFail(parameterOverrides(row, o.technique)).front();
-    if (!o.technique.mapsPath.empty() && !info.buildMaps)
-        throw CommandFailed{makeError(ErrorKind::Unsupported, "--maps: {} reads no maps", info.name)};
     auto hf = orFail(loadHeightfield(o.surface));
     auto surface = orFail(makeSurface(o.surface, hf));
-    std::shared_ptr<const MapFile> file;
-    if (!o.technique.mapsPath.empty()) file = orFail(loadCheckedMaps(o.technique.mapsPath, *surface));
-    const TechniqueInput input =
-        orFail(techniqueInput(info, surface, overrides, file.get(), o.technique.mapsPath));
-    if (info.check) orFail(info.check(input));
-    TechniqueMaps built;
-    if (input.maps) built = *input.maps;
-    else if (info.buildMaps) built = orFail(info.buildMaps(input));
+    const PreviewInput input = orFail(previewInput(info, overrides, o.technique.mapsPath, surface));
     const std::optional<ImageRgb8> color = loadColorMap(o);
     preview::MeshRenderSettings settings;
     settings.width = size.x;
@@ -375,7 +359,7 @@ void meshRender(const RenderOptions& o) {
     settings.specular = o.specular;
     settings.crossingHeight = o.crossingPlane;
     const preview::MeshImage image = orFail(preview::renderMesh(
-        info, input.params, built, surface, mesh, color ? &*color : nullptr, settings));
+        info, input.params, input.maps, surface, mesh, color ? &*color : nullptr, settings));
     OutputSet outputs;
     orFail(writePng(outputs, o.output, image.color));
     if (!o.depthOut.empty()) orFail(writeFloatImage(outputs, o.depthOut, image.distance));

@@ -245,6 +245,50 @@ Result<std::unique_ptr<Tracer>> makeTracer(
     return createTracer(backend, info, *input);
 }
 
+Result<std::optional<ImageRgb8>> loadColorOption(const std::string& path,
+                                                 const std::string& source) {
+    if (path.empty()) return std::optional<ImageRgb8>();
+    if (path != "gen") {
+        auto image = loadColorImage(path);
+        if (!image) return image.error();
+        return std::optional<ImageRgb8>(std::move(*image));
+    }
+    if (source.find('@') != std::string::npos)
+        return makeError(ErrorKind::Unsupported,
+                         "--color gen: {}: a window of a generator has no generated colour map "
+                         "(crop the image instead)",
+                         source);
+    auto image = loadGeneratorColor(source);
+    if (!image) return image.error();
+    return std::optional<ImageRgb8>(std::move(*image));
+}
+
+Result<PreviewInput> previewInput(const TechniqueInfo& info, const Overrides& overrides,
+                                  const std::string& mapsPath,
+                                  std::shared_ptr<const Surface> surface) {
+    if (!mapsPath.empty() && !info.buildMaps)
+        return makeError(ErrorKind::Unsupported, "--maps: {} reads no maps", info.name);
+    std::shared_ptr<const MapFile> file;
+    if (!mapsPath.empty()) {
+        auto loaded = loadCheckedMaps(mapsPath, *surface);
+        if (!loaded) return loaded.error();
+        file = *loaded;  // cached by loadCheckedMaps
+    }
+    auto input = techniqueInput(info, std::move(surface), overrides, file.get(), mapsPath);
+    if (!input) return input.error();
+    if (info.check)
+        if (Status s = info.check(*input); !s) return s.error();
+    PreviewInput out{input->params, {}};
+    if (input->maps) {
+        out.maps = *input->maps;
+    } else if (info.buildMaps) {
+        auto built = info.buildMaps(*input);
+        if (!built) return built.error();
+        out.maps = std::move(*built);
+    }
+    return out;
+}
+
 int report(const Error& error) {
     std::fprintf(stderr, "relief: error: %s\n", error.message.c_str());
     return int(error.kind);

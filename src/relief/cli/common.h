@@ -72,6 +72,21 @@ Result<std::unique_ptr<Tracer>> makeTracer(
     const TechniqueInfo& info, const std::vector<std::pair<std::string, double>>& overrides,
     const std::string& mapsPath, Backend backend, std::shared_ptr<const Surface> surface);
 
+// --color FILE, or `--color gen`: the generator's own colour map (bricks) at the size of
+// `source`; nothing for an empty path.
+Result<std::optional<ImageRgb8>> loadColorOption(const std::string& path,
+                                                 const std::string& source);
+
+// The mesh preview's input (render --mesh, view --mesh): the row's parameters resolved and checked,
+// its maps read from `mapsPath` when not empty (checked against the surface), else built.
+struct PreviewInput {
+    ParamValues params;
+    TechniqueMaps maps;
+};
+Result<PreviewInput> previewInput(const TechniqueInfo& info, const Overrides& overrides,
+                                  const std::string& mapsPath,
+                                  std::shared_ptr<const Surface> surface);
+
 // The one place where errors become messages and exit codes (0 ok, 1 bad arguments, 2 I/O,
 // 3 invalid input, 4 runtime/GL, 5 unsupported).
 int report(const Error& error);

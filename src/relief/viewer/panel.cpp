@@ -19,9 +19,15 @@ constexpr int kPixelScales[] = {1, 2, 4};
 constexpr const char* kPixelScaleNames[] = {"full", "1/2", "1/4"};
 constexpr float kTextWidthEms = 28.0f;  // long lines (device, map errors) wrap here
 constexpr float kWidgetWidthEms = 14.0f;
+constexpr float kPanelMargin = 8.0f;     // pixels between the panel and the window's edges
+constexpr float kMinDepthRatio = 1e-3f;  // the depth slider: this to kMaxDepthRatio × the width
+constexpr float kMaxDepthRatio = 0.5f;
+
+// Where text wraps, in the panel's coordinates: kTextWidthEms, or less in a narrow window.
+float g_wrapWidth = 0.0f;
 
 void wrappedText(std::string_view text, bool dim = false) {
-    ImGui::PushTextWrapPos(ImGui::GetFontSize() * kTextWidthEms);
+    ImGui::PushTextWrapPos(g_wrapWidth);
     if (dim) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextUnformatted(text.data(), text.data() + text.size());
     if (dim) ImGui::PopStyleColor();
@@ -32,15 +38,15 @@ void tooltip(std::string_view text) {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("%.*s", int(text.size()), text.data());
 }
 
-bool techniqueCombo(ViewerState& state) {
+// True when `technique` was set to another row.
+bool rowCombo(const char* label, const TechniqueInfo*& technique, bool mesh) {
     bool changed = false;
-    const std::string current(state.technique->name);
-    if (ImGui::BeginCombo("technique", current.c_str())) {
-        for (const TechniqueInfo* info : viewableTechniques()) {
-            const bool selected = info == state.technique;
+    const std::string current(technique->name);
+    if (ImGui::BeginCombo(label, current.c_str())) {
+        for (const TechniqueInfo* info : viewableTechniques(mesh)) {
+            const bool selected = info == technique;
             if (ImGui::Selectable(std::string(info->name).c_str(), selected) && !selected) {
-                state.technique = info;
-                state.params = defaultParams(*info);
+                technique = info;
                 changed = true;
             }
             tooltip(info->summary);
@@ -48,9 +54,36 @@ bool techniqueCombo(ViewerState& state) {
         }
         ImGui::EndCombo();
     }
+    return changed;
+}
+
+bool techniqueCombo(ViewerState& state) {
+    const bool changed =
+        rowCombo(state.mesh ? "technique A" : "technique", state.technique, state.mesh);
+    if (changed) state.params = defaultParams(*state.technique);
     wrappedText(
         fmt::format("{}: {}", toString(state.technique->contract), state.technique->summary), true);
     return changed;
+}
+
+// --mesh: depth, tiling and the split; `actions` says what must be rebuilt.
+void materialWidgets(ViewerState& state, const PanelInfo& info, PanelActions& actions) {
+    const float width = float(info.heightfieldSize.x);
+    // A deeper --depth than the range stays reachable.
+    const float maxDepth = std::max(kMaxDepthRatio * width, state.depth);
+    ImGui::SliderFloat("depth", &state.depth, kMinDepthRatio * width, maxDepth, "%.3g texels",
+                       ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+    tooltip("the relief's depth D in texels (maps are rebuilt when the slider is released)");
+    actions.rebuildMaterial = ImGui::IsItemDeactivatedAfterEdit();
+    actions.rebuildMaterial = ImGui::Checkbox("tiling", &state.tiling) || actions.rebuildMaterial;
+    tooltip("repeat the maps (edge mode repeat) and tile them across each face");
+    if (state.tiling)
+        actions.redraw =
+            ImGui::SliderFloat("tiles", &state.tiles, 1.0f, 16.0f, "%.1f per uv") || actions.redraw;
+    actions.redraw = ImGui::Checkbox("A/B split", &state.split) || actions.redraw;
+    tooltip("technique A on the left half, B on the right, each timed");
+    if (state.split && !state.techniqueB) state.techniqueB = state.technique;
+    if (state.split) actions.rebuildB = rowCombo("technique B", state.techniqueB, true);
 }
 
 // True when an edit is finished (slider released, Enter, a step button): the maps may depend on
@@ -88,16 +121,18 @@ bool parameterWidgets(ViewerState& state) {
 bool overlayWidgets(ViewerState& state) {
     int overlay = int(state.overlay);
     bool changed = false;
-    for (int k = 0; k < int(std::size(kOverlayNames)); ++k) {
+    for (int k = 0; k < int(std::size(kOverlayNames)) && !state.mesh; ++k) {
         if (k) ImGui::SameLine();
         changed = ImGui::RadioButton(kOverlayNames[k], &overlay, k) || changed;
     }
-    tooltip(
-        "shading: Lambert as relief render; steps: iterations per pixel; error: |t - t_exact| "
-        "(exact traced too), wrong pixels magenta");
+    if (!state.mesh)
+        tooltip(
+            "shading: Lambert as relief render; steps: iterations per pixel; error: |t - t_exact| "
+            "(exact traced too), wrong pixels magenta");
     state.overlay = Overlay(overlay);
     changed = ImGui::Checkbox("shadows", &state.shadows) || changed;
-    tooltip("shadow rays traced by the same technique (shading overlay)");
+    tooltip(state.mesh ? "self-shadows: the row's shadow function toward the light"
+                       : "shadow rays traced by the same technique (shading overlay)");
     changed =
         ImGui::SliderFloat("light elevation", &state.lightElevationDeg, 0.0f, 90.0f, "%.1f deg") ||
         changed;
@@ -120,6 +155,7 @@ bool viewWidgets(ViewerState& state) {
               changed;
     tooltip("in box diagonals");
     changed = ImGui::SliderFloat("fov", &view.fovDeg, 5.0f, 120.0f, "%.0f deg") || changed;
+    if (state.mesh) return changed;  // drawn at the window's resolution
     const auto scale =
         std::find(std::begin(kPixelScales), std::end(kPixelScales), state.pixelScale);
     int scaleIndex = scale == std::end(kPixelScales) ? 0 : int(scale - std::begin(kPixelScales));
@@ -139,21 +175,30 @@ void frameNumbers(const PanelInfo& info) {
     }
     const Frame& frame = *info.frame;
     const ErrorStats& s = frame.stats;
-    ImGui::Text("%d x %d traced in %.1f ms, hits %.1f %%", info.tracedSize.x, info.tracedSize.y,
-                1000.0 * frame.seconds, s.pixels ? 100.0 * double(s.hits) / double(s.pixels) : 0.0);
-    ImGui::Text("steps mean %.2f max %.0f, fetches mean %.1f", s.steps.mean, s.steps.max,
-                s.fetches.mean);
+    ImGui::TextWrapped("%d x %d traced in %.1f ms, hits %.1f %%", info.tracedSize.x,
+                       info.tracedSize.y, 1000.0 * frame.seconds,
+                       s.pixels ? 100.0 * double(s.hits) / double(s.pixels) : 0.0);
+    ImGui::TextWrapped("steps mean %.2f max %.0f, fetches mean %.1f", s.steps.mean, s.steps.max,
+                       s.fetches.mean);
     if (frame.hasReference)
-        ImGui::Text("|t - t_exact| mean %.3g p95 %.3g max %.3g, wrong %.3f %%", s.error.mean,
-                    s.error.p95, s.error.max, 100.0 * s.wrongRate());
+        ImGui::TextWrapped("|t - t_exact| mean %.3g p95 %.3g max %.3g, wrong %.3f %%", s.error.mean,
+                           s.error.p95, s.error.max, 100.0 * s.wrongRate());
+}
+
+void meshNumbers(const ViewerState& state, const PanelInfo& info) {
+    ImGui::TextWrapped("A %.*s: %.2f ms", int(state.technique->name.size()),
+                       state.technique->name.data(), info.milliseconds[0]);
+    if (state.split && state.techniqueB)
+        ImGui::TextWrapped("B %.*s: %.2f ms", int(state.techniqueB->name.size()),
+                           state.techniqueB->name.data(), info.milliseconds[1]);
 }
 
 }  // namespace
 
-std::vector<const TechniqueInfo*> viewableTechniques() {
+std::vector<const TechniqueInfo*> viewableTechniques(bool mesh) {
     std::vector<const TechniqueInfo*> list;
     for (const TechniqueInfo& info : techniques())
-        if (!info.glsl.empty()) list.push_back(&info);
+        if (mesh ? !info.shaderFunction.empty() : !info.glsl.empty()) list.push_back(&info);
     return list;
 }
 
@@ -165,27 +210,45 @@ ParamValues defaultParams(const TechniqueInfo& info) {
 
 PanelActions drawPanel(ViewerState& state, const PanelInfo& info) {
     PanelActions actions;
-    ImGui::SetNextWindowPos(ImVec2(8.0f, 8.0f), ImGuiCond_FirstUseEver);
-    ImGui::Begin("relief view", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
-    ImGui::Text("%.*s  %d x %d, depth %.3g", int(info.source.size()), info.source.data(),
-                info.heightfieldSize.x, info.heightfieldSize.y, info.depth);
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float maxWidth = std::max(1.0f, kMaxPanelFraction * display.x - kPanelMargin);
+    g_wrapWidth = std::min(ImGui::GetFontSize() * kTextWidthEms,
+                           maxWidth - 2.0f * ImGui::GetStyle().WindowPadding.x);
+    ImGui::SetNextWindowPos(ImVec2(kPanelMargin, kPanelMargin), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(
+        ImVec2(0.0f, 0.0f), ImVec2(maxWidth, std::max(1.0f, display.y - 2.0f * kPanelMargin)));
+    ImGui::SetNextWindowCollapsed(state.panelCollapsed, ImGuiCond_Always);
+    const bool open = ImGui::Begin("relief view (Tab)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    state.panelCollapsed = ImGui::IsWindowCollapsed();  // the title bar's arrow toggles it too
+    if (!open) {
+        ImGui::End();
+        return actions;
+    }
+    ImGui::TextWrapped("%.*s  %d x %d, depth %.3g", int(info.source.size()), info.source.data(),
+                       info.heightfieldSize.x, info.heightfieldSize.y, info.depth);
+    if (state.mesh) ImGui::TextWrapped("on mesh %.*s", int(info.mesh.size()), info.mesh.data());
     wrappedText(info.device, true);
-    ImGui::PushItemWidth(ImGui::GetFontSize() * kWidgetWidthEms);
+    ImGui::PushItemWidth(std::min(ImGui::GetFontSize() * kWidgetWidthEms, 0.5f * maxWidth));
     if (ImGui::CollapsingHeader("technique", ImGuiTreeNodeFlags_DefaultOpen)) {
         actions.rebuildTracer = techniqueCombo(state);
         actions.rebuildTracer = parameterWidgets(state) || actions.rebuildTracer;
     }
-    if (ImGui::CollapsingHeader("overlay and light", ImGuiTreeNodeFlags_DefaultOpen))
-        actions.redraw = overlayWidgets(state);
+    if (state.mesh && ImGui::CollapsingHeader("material", ImGuiTreeNodeFlags_DefaultOpen))
+        materialWidgets(state, info, actions);
+    if (ImGui::CollapsingHeader(state.mesh ? "light" : "overlay and light",
+                                ImGuiTreeNodeFlags_DefaultOpen))
+        actions.redraw = overlayWidgets(state) || actions.redraw;
     if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen))
         actions.redraw = viewWidgets(state) || actions.redraw;
     ImGui::Separator();
-    frameNumbers(info);
+    if (state.mesh)
+        meshNumbers(state, info);
+    else
+        frameNumbers(info);
     ImGui::PopItemWidth();
     wrappedText(info.status);
     actions.screenshot = ImGui::Button("screenshot (S)");
-    ImGui::SameLine();
-    ImGui::TextDisabled("drag: orbit, wheel: distance, Esc: quit");
+    wrappedText("drag: orbit, wheel: distance, Tab: panel, Esc: quit", true);
     ImGui::End();
     return actions;
 }

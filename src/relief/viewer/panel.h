@@ -25,6 +25,16 @@ struct ViewerState {
     float lightElevationDeg = 45.0f;
     float lightAzimuthDeg = 135.0f;
     int pixelScale = 1;  // one traced pixel covers pixelScale² window pixels
+    bool panelCollapsed = false;
+    // The material preview (--mesh) only: the relief's depth, tiling (repeat edges and `tiles`
+    // repeats per uv unit), and the A/B split with `techniqueB` (its default parameters) on the
+    // right half.
+    bool mesh = false;
+    float depth = 0.0f;
+    bool tiling = false;
+    float tiles = 2.0f;
+    bool split = false;
+    const TechniqueInfo* techniqueB = nullptr;
 };
 
 // What the panel shows and does not edit.
@@ -36,16 +46,24 @@ struct PanelInfo {
     std::string_view status;  // the last build, error or screenshot
     const Frame* frame = nullptr;
     ivec2 tracedSize{0, 0};
+    std::string_view mesh;                // --mesh as given
+    double milliseconds[2] = {0.0, 0.0};  // --mesh: the last draw of A and of B
 };
 
 struct PanelActions {
     bool rebuildTracer = false;  // technique or a parameter: maps may depend on them
     bool redraw = false;         // overlay, shadows, light, view or resolution
     bool screenshot = false;
+    bool rebuildB = false;         // --mesh: technique B
+    bool rebuildMaterial = false;  // --mesh: depth or tiling: the surface changes, so A and B
 };
 
-// The registry rows the viewer can show: per-pixel techniques with a GLSL tracer.
-std::vector<const TechniqueInfo*> viewableTechniques();
+// The panel's width is at most this fraction of the window's (less its margin).
+inline constexpr float kMaxPanelFraction = 1.0f / 3.0f;
+
+// The registry rows the viewer can show: per-pixel techniques with a GLSL tracer, or with --mesh
+// the rows with a shader-library function.
+std::vector<const TechniqueInfo*> viewableTechniques(bool mesh = false);
 
 // Default parameters of `info` (the registry's, as resolveParams gives them).
 ParamValues defaultParams(const TechniqueInfo& info);

@@ -47,12 +47,24 @@ class Viewer {
         m_state.view = options.view;
         m_state.lightElevationDeg = options.lightElevationDeg;
         m_state.lightAzimuthDeg = options.lightAzimuthDeg;
+        m_state.panelCollapsed = options.panelFolded;
+        m_state.mesh = options.mesh.has_value();
+        m_state.depth = options.surface->depth();
+        // Tiling starts on with --tiles or --edge repeat (then once per uv unit, as render --mesh).
+        const bool repeat = options.surface->edge() == EdgeMode::Repeat;
+        m_state.tiling = options.tiles > 0.0f || repeat;
+        if (m_state.tiling) m_state.tiles = options.tiles > 0.0f ? options.tiles : 1.0f;
+        m_state.split = options.splitTechnique != nullptr;
+        m_state.techniqueB = options.splitTechnique;
         auto device = glBackendDescription();
         m_device = device ? *device : device.error().message;
     }
 
     Status run() {
-        if (Status s = rebuildTracer(); !s) return s;  // the command line's technique must work
+        // The command line's techniques must work.
+        if (Status s = rebuildTracer(); !s) return s;
+        if (m_state.mesh && m_state.split)
+            if (Status s = rebuildPreview(1); !s) return s;
         for (int frame = 0;
              !m_window.shouldClose() && (m_options.frames == 0 || frame < m_options.frames);
              ++frame) {
@@ -60,18 +72,30 @@ class Viewer {
             const bool screenshot = handleKeysAndMouse();
             const PanelActions actions = drawPanel(m_state, panelInfo());
             m_dirty = m_dirty || actions.redraw;
-            renderIfNeeded();
-            drawImage();
+            drawView();
             // Interactive: a failed write is shown in the panel, the viewer goes on.
             if (screenshot || actions.screenshot)
                 static_cast<void>(saveScreenshot(nextScreenshotPath()));
             m_window.endFrame();
             // A failure here is shown in the panel, and the previous tracer stays.
-            if (actions.rebuildTracer) static_cast<void>(rebuildTracer());
+            if (actions.rebuildTracer || actions.rebuildMaterial)
+                static_cast<void>(rebuildTracer());
+            if (m_state.mesh && m_state.split &&
+                (actions.rebuildB || actions.rebuildMaterial || !m_meshView.has(1)))
+                static_cast<void>(rebuildPreview(1));
         }
         if (m_options.screenshotPath.empty()) return {};
-        drawImage();  // the last frame again, into the back buffer, without the panel
-        return saveScreenshot(m_options.screenshotPath);
+        if (!m_options.screenshotPanel) {
+            drawView();  // the last frame again, into the back buffer, without the panel
+            return saveScreenshot(m_options.screenshotPath);
+        }
+        m_window.beginFrame();
+        drawPanel(m_state, panelInfo());
+        drawView();
+        m_window.drawUi();
+        const Status saved = saveScreenshot(m_options.screenshotPath);
+        m_window.present();
+        return saved;
     }
 
   private:
@@ -97,6 +121,7 @@ class Viewer {
             }
         }
         if (m_window.keyPressed(GLFW_KEY_ESCAPE)) m_window.requestClose();
+        if (m_window.keyPressed(GLFW_KEY_TAB)) m_state.panelCollapsed = !m_state.panelCollapsed;
         const bool s = m_window.keyPressed(GLFW_KEY_S);
         const bool f12 = m_window.keyPressed(GLFW_KEY_F12);
         return s || f12;
@@ -107,17 +132,21 @@ class Viewer {
         PanelInfo info;
         info.source = m_options.sourceName;
         info.heightfieldSize = ivec2(surface.width(), surface.height());
-        info.depth = surface.depth();
+        info.depth = m_state.mesh ? m_state.depth : surface.depth();
         info.device = m_device;
         info.status = m_status;
         info.frame = m_frame ? &*m_frame : nullptr;
         info.tracedSize = m_tracedSize;
+        info.mesh = m_options.meshName;
+        info.milliseconds[0] = m_meshView.milliseconds(0);
+        info.milliseconds[1] = m_meshView.milliseconds(1);
         return info;
     }
 
     // Builds the tracer of the panel's technique and parameters; on failure the previous one
     // stays, and so do its technique and parameters in the panel.
     Status rebuildTracer() {
+        if (m_state.mesh) return rebuildPreview(0);
         const std::string name(m_state.technique->name);
         showMessage(m_state.technique->buildMaps
                         ? fmt::format("building the maps of '{}' ...", name)
@@ -141,6 +170,62 @@ class Viewer {
         return {};
     }
 
+    // --mesh: the preview of A (slot 0: the panel's technique and parameters) or B (slot 1: its
+    // defaults) on the panel's depth and tiling. On failure the slot keeps its previous preview,
+    // and the panel goes back to what that shows.
+    Status rebuildPreview(int slot) {
+        const TechniqueInfo* technique = slot == 0 ? m_state.technique : m_state.techniqueB;
+        const std::string name(technique->name);
+        showMessage(fmt::format("building the preview of '{}' ...", name));
+        const auto start = std::chrono::steady_clock::now();
+        MaterialSpec spec{technique, slot == 0 ? m_state.params : defaultParams(*technique),
+                          m_state.depth, m_state.tiling};
+        const Status built = m_meshView.build(slot, spec, m_options.makePreview, *m_options.mesh);
+        if (!built) {
+            m_status = fmt::format("'{}' failed: {}", name, built.error().message);
+            const MaterialSpec& last = m_material[slot];
+            if (slot == 1 && !last.technique) m_state.split = false;  // nothing to show on B
+            if (last.technique) {
+                (slot == 0 ? m_state.technique : m_state.techniqueB) = last.technique;
+                if (slot == 0) m_state.params = last.params;
+                m_state.depth = last.depth;
+                m_state.tiling = last.repeat;
+            }
+            return built;
+        }
+        m_material[slot] = spec;
+        m_status = fmt::format(
+            "'{}' ready in {:.2f} s", name,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        return {};
+    }
+
+    preview::MeshRenderSettings meshSettings() const {
+        preview::MeshRenderSettings settings;
+        const ivec2 size = m_window.framebufferSize();
+        settings.width = size.x;
+        settings.height = size.y;
+        settings.view = m_state.view;
+        settings.towardsLight =
+            directionFromAngles(m_state.lightElevationDeg, m_state.lightAzimuthDeg);
+        settings.shadows = m_state.shadows;
+        settings.tiles = m_state.tiling ? m_state.tiles : 1.0f;
+        settings.specular = Shading{}.specular;  // as relief render --mesh by default
+        return settings;
+    }
+
+    // What the window shows under the panel: the mesh drawn anew, or the traced image.
+    void drawView() {
+        if (!m_state.mesh) {
+            renderIfNeeded();
+            drawImage();
+            return;
+        }
+        const preview::MeshRenderSettings settings = meshSettings();
+        if (settings.width < 1 || settings.height < 1) return;  // minimized
+        m_meshView.draw(settings, m_state.split, Shading().background);
+    }
+
     // One frame with just `message` over the last image, so that a long build does not look
     // like a hung window.
     void showMessage(const std::string& message) {
@@ -153,7 +238,10 @@ class Viewer {
                          ImGuiWindowFlags_NoInputs);
         ImGui::TextUnformatted(message.c_str());
         ImGui::End();
-        drawImage();
+        if (m_state.mesh)
+            drawView();
+        else
+            drawImage();
         m_window.endFrame();
     }
 
@@ -212,6 +300,8 @@ class Viewer {
     } m_active;
     ViewRenderer m_renderer;
     ImageDisplay m_display;
+    MeshView m_meshView;
+    MaterialSpec m_material[2];  // what each slot of m_meshView shows
     std::unique_ptr<Tracer> m_tracer, m_exact;
     std::optional<Frame> m_frame;
     ivec2 m_tracedSize{0, 0};
@@ -224,6 +314,7 @@ class Viewer {
 
 Status runViewer(const ViewerOptions& options) {
     RELIEF_CHECK(options.surface && options.technique && options.makeTracer);
+    RELIEF_CHECK(!options.mesh || options.makePreview);
     auto window = Window::open(options.windowSize, "relief view: " + options.sourceName);
     if (!window) return window.error();
     if (Status s = gl::EglContext::shareCurrentContext((*window)->contextOrigin()); !s) return s;

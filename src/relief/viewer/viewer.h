@@ -7,8 +7,10 @@
 // Compiled into the relief executable only: the libraries and their tests stay free of GLFW.
 #include <relief/core/error.h>
 #include <relief/core/image.h>
+#include <relief/preview/mesh.h>
 #include <relief/render/camera.h>
 #include <relief/techniques/technique.h>
+#include <relief/viewer/mesh_view.h>
 #include <relief/viewer/view_renderer.h>
 
 #include <functional>
@@ -36,13 +38,23 @@ struct ViewerOptions {
     bool shadows = false;
     Overlay overlay = Overlay::Shading;
     ivec2 windowSize{1024, 768};
-    int frames = 0;              // > 0: draw this many frames, then return
-    std::string screenshotPath;  // written from the last frame (with frames > 0 or on close)
+    int frames = 0;                // > 0: draw this many frames, then return
+    std::string screenshotPath;    // written from the last frame (with frames > 0 or on close)
+    bool screenshotPanel = false;  // ... with the panel over it
+    bool panelFolded = false;      // the panel starts folded to its title bar
+    // --mesh: the material preview on this mesh (mesh_view.h) instead of the traced block; the
+    // technique must have a shader-library function, and so must splitTechnique (B, shown on the
+    // right half from the start when given). tiles > 0: tiling on (repeat edges) from the start.
+    std::optional<preview::Mesh> mesh;
+    std::string meshName;
+    PreviewFactory makePreview;
+    const TechniqueInfo* splitTechnique = nullptr;
+    float tiles = 0.0f;
 };
 
 // Opens the window and runs until it is closed (or `frames` are drawn). Errors: no display or no
-// GL 4.5 context (naming what was tried), the first technique failing to build, a screenshot
-// that cannot be written.
+// GL 4.5 context (naming what was tried), the first technique (or --mesh's A and B) failing to
+// build, a screenshot that cannot be written.
 Status runViewer(const ViewerOptions& options);
 
 }  // namespace relief::viewer

@@ -114,10 +114,16 @@ void Window::beginFrame() {
 }
 
 void Window::endFrame() {
+    drawUi();
+    present();
+}
+
+void Window::drawUi() {
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    glfwSwapBuffers(m_window);
 }
+
+void Window::present() { glfwSwapBuffers(m_window); }
 
 ivec2 Window::framebufferSize() const {
     ivec2 size;

@@ -30,6 +30,9 @@ class Window {
     void beginFrame();
     // Draws the ImGui frame over whatever was drawn since beginFrame, and presents it.
     void endFrame();
+    // endFrame in two halves, for a screenshot of the window with its panel in between.
+    void drawUi();
+    void present();
     ivec2 framebufferSize() const;
     // True once per press (GLFW_KEY_*), and only while ImGui is not taking the keyboard.
     bool keyPressed(int glfwKey);
