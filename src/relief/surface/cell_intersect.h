@@ -8,19 +8,27 @@
 
 namespace relief {
 
-// Smallest t in [ta, tb] where the ray is on or below `plane`, or kInfinity. The height above
-// the plane is A + B·t; A subtracts the plane's height under the origin from the origin's, which
-// cancels badly in float for far origins and grazing rays (t error ≈ ulp(z) / |B|, 1e-4 texel at
-// t ≈ 140), so A, B and the root are computed in double and only the root is rounded to float.
+// Smallest t in [ta, tb] where the ray is on or below `plane`, or kInfinity. The hit/miss
+// decision is the float sign test at both ends (as the GLSL twin makes it). The root is solved in
+// double: the height above the plane is a + b·t, and a subtracts the plane's height under the
+// origin from the origin's, which cancels badly in float for far origins and grazing rays (a float
+// secant put one contract ray 1.1e-4 texel past the true t at t ≈ 143).
 inline float firstHitOnPlane(const CellPlane& plane, const vec3& origin, const vec3& direction,
                              float cellX, float cellY, float ta, float tb) {
-    const double ou = double(origin.x) - double(cellX), ov = double(origin.y) - double(cellY);
-    const double a = double(origin.z) - (double(plane.z0) + double(plane.sx) * ou + double(plane.sy) * ov);
+    const float ou = origin.x - cellX, ov = origin.y - cellY;
+    const float above0 = origin.z + ta * direction.z -
+                         plane.at(ou + ta * direction.x, ov + ta * direction.y);
+    if (above0 <= 0.0f) return ta;
+    const float above1 = origin.z + tb * direction.z -
+                         plane.at(ou + tb * direction.x, ov + tb * direction.y);
+    if (above1 > 0.0f) return kInfinity;
+    const double a = double(origin.z) - (double(plane.z0) + double(plane.sx) * double(ou) +
+                                         double(plane.sy) * double(ov));
     const double b = double(direction.z) - double(plane.sx) * double(direction.x) -
                      double(plane.sy) * double(direction.y);
-    if (a + b * double(ta) <= 0.0) return ta;
-    if (a + b * double(tb) > 0.0) return kInfinity;
-    // above(ta) > 0 >= above(tb): b < 0 and the root lies in (ta, tb].
+    // The float signs say the root lies in (ta, tb]; where rounding makes the double line
+    // disagree (b >= 0, or its root outside), the segment's end that the signs name is kept.
+    if (!(b < 0.0)) return tb;
     return std::clamp(float(-a / b), ta, tb);
 }
 
