@@ -4,7 +4,7 @@
 // ones `relief render --mesh` uses), so a page view matches that command's image of the same
 // options. Query parameters (all optional) preset the page, for links and the headless test:
 // height, map, color (URLs), mesh, technique, elevation, azimuth, distance, fov, width, height
-// as size=WxH, depth-ratio or depth, tiles, shadows=0|1, light-elevation, light-azimuth, ui=0.
+// as size=WxH, depth-ratio or depth, tiles, shadows=1 (off by default, as in relief render), light-elevation, light-azimuth, ui=0.
 import {decodePng, heightsFromPng, readMap} from './formats.js';
 import {builtinMesh, directionFromAngles, orbitCamera} from './mesh.js';
 import {kTechniques} from './techniques.js';
@@ -18,7 +18,7 @@ const state = {
     view: {elevation: num('elevation', 40.2), azimuth: num('azimuth', 30), distance: num('distance', 1.2), fov: num('fov', 45)},
     light: {elevation: num('light-elevation', 45), azimuth: num('light-azimuth', 135)},
     depthRatio: num('depth-ratio', 0.1), depth: query.has('depth') ? num('depth', 0) : null,
-    tiles: num('tiles', 1), shadows: query.get('shadows') !== '0', maxSteps: null,
+    tiles: num('tiles', 1), shadows: query.get('shadows') === '1', maxSteps: null,  // off, as relief render
 };
 const [width, height] = (query.get('size') || '800x600').split('x').map(Number);
 const canvas = $('view');
