@@ -9,12 +9,11 @@
 // 255 in some channel and at most 1 % off by more than 32. Measured when written: 0.01 %,
 // 0.03 % and 0.02 % (cube, cone PNG, self-shadows), 0.01 %, 2.1 % and 0.02 % (sphere, maxmip
 // KTX2).
-#include <relief/io/heightfield_io.h>
-#include <relief/techniques/registry.h>
-
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <relief/io/heightfield_io.h>
+#include <relief/techniques/registry.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -68,8 +67,8 @@ TEST(WebPage, TechniqueTableMatchesTheRegistry) {
     const std::regex row(
         R"('([a-z-]+)': \{file: '([a-z_]+\.glsl)', fn: '(\w+)', samplers: \[(.*)\], maxSteps: (\d+), binarySteps: (\d+)\})");
     int rows = 0;
-    for (auto it = std::sregex_iterator(table.begin(), table.end(), row); it != std::sregex_iterator();
-         ++it, ++rows) {
+    for (auto it = std::sregex_iterator(table.begin(), table.end(), row);
+         it != std::sregex_iterator(); ++it, ++rows) {
         const std::smatch& m = *it;
         auto info = lookupTechnique(m[1].str());
         ASSERT_TRUE(info) << m[1];
@@ -180,7 +179,8 @@ TEST(WebPage, HeadlessChromiumMatchesRenderMesh) {
                                           shot.string(), url)
                                   .c_str()),
                   0);
-        run(fmt::format("render {} -t {} {} --maps {} --mesh {} --size 400x300 --elevation 35 "
+        run(
+            fmt::format("render {} -t {} {} --maps {} --mesh {} --size 400x300 --elevation 35 "
                         "--azimuth 50 -o {}",
                         (dir / "height.png").string(), c.technique, c.params,
                         (dir / c.map).string(), c.mesh, reference.string()));

@@ -3,9 +3,8 @@
 // /FILE from DIR/web, /shaders/relief/FILE from DIR/shaders/relief, /gl/preview_*.glsl from
 // DIR/src/relief/gl/shaders; nothing else is served (no listing, no path outside those folders,
 // symbolic links resolved before the check); --data DIR adds /data/FILE from DIR.
-#include <relief/cli/common.h>
-
 #include <httplib.h>
+#include <relief/cli/common.h>
 #include <sys/socket.h>
 
 #include <csignal>
@@ -45,7 +44,8 @@ std::optional<fs::path> insideRoot(const fs::path& base, const std::string& rela
     if (ec) return std::nullopt;
     const fs::path candidate = fs::weakly_canonical(root / fs::path(relative).relative_path(), ec);
     if (ec) return std::nullopt;
-    auto [end, unused] = std::mismatch(root.begin(), root.end(), candidate.begin(), candidate.end());
+    auto [end, unused] =
+        std::mismatch(root.begin(), root.end(), candidate.begin(), candidate.end());
     if (end != root.end()) return std::nullopt;
     if (!fs::is_regular_file(candidate, ec)) return std::nullopt;
     return candidate;
@@ -78,9 +78,10 @@ void runServe(const ServeOptions& o) {
         send(res, insideRoot(library, req.matches[1]));
     });
     // The mesh preview's own shaders, which the page shares with `relief render --mesh`.
-    server.Get("/gl/(preview_[a-z]+\\.glsl)", [&](const httplib::Request& req, httplib::Response& res) {
-        send(res, insideRoot(glShaders, req.matches[1]));
-    });
+    server.Get("/gl/(preview_[a-z]+\\.glsl)",
+               [&](const httplib::Request& req, httplib::Response& res) {
+                   send(res, insideRoot(glShaders, req.matches[1]));
+               });
     if (!o.data.empty()) {
         if (!fs::is_directory(o.data))
             throw CommandFailed{makeError(ErrorKind::Io, "--data {}: not a folder", o.data)};
@@ -103,9 +104,10 @@ void runServe(const ServeOptions& o) {
                                       "--port {}: cannot listen on 127.0.0.1:{} (in use by another "
                                       "program? try another --port)",
                                       o.port, o.port)};
-    std::cout << fmt::format("relief serve: http://127.0.0.1:{}/ (web/ and shaders/relief/ from "
-                             "{}); Ctrl-C stops\n",
-                             o.port, fs::weakly_canonical(root).string())
+    std::cout << fmt::format(
+                     "relief serve: http://127.0.0.1:{}/ (web/ and shaders/relief/ from "
+                     "{}); Ctrl-C stops\n",
+                     o.port, fs::weakly_canonical(root).string())
               << std::flush;
     if (!server.listen_after_bind())
         throw CommandFailed{makeError(ErrorKind::Runtime, "relief serve: the server stopped")};
