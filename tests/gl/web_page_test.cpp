@@ -155,6 +155,19 @@ TEST(WebPage, HeadlessChromiumMatchesRenderMesh) {
         const char *mesh, *technique, *map, *params, *page;  // page: its query for the same
     } cases[] = {{"cube", "cone", "cone.png", "--param bits=16 --shadows", "&shadows=1"},
                  {"sphere", "maxmip", "maxmip.ktx2", "", ""}};
+    {  // the page as a new user opens it: a prompt to load files, no console message
+        const std::string chromium = fmt::format(
+            "timeout 120 chromium --headless --no-sandbox --enable-unsafe-swiftshader "
+            "--use-angle=swiftshader --enable-logging=stderr --v=0 --virtual-time-budget=5000 "
+            "--user-data-dir={} --dump-dom http://127.0.0.1:{}/ > {} 2> {}",
+            (dir / "profile_empty").string(), server.port, (dir / "empty.html").string(),
+            (dir / "empty.log").string());
+        ASSERT_EQ(std::system(chromium.c_str()), 0);
+        EXPECT_NE(readText(dir / "empty.html").find("load a heightmap PNG"), std::string::npos)
+            << readText(dir / "empty.html");
+        EXPECT_EQ(readText(dir / "empty.log").find("CONSOLE"), std::string::npos)
+            << readText(dir / "empty.log");
+    }
     for (const Case& c : cases) {
         const std::string name = fmt::format("{}_{}", c.mesh, c.technique);
         const std::string url = fmt::format(
