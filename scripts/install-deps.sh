@@ -8,7 +8,7 @@ packages=(
     libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libtinygltf-dev
     libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
     libglfw3-dev libimgui-dev xvfb xauth
-    chromium
+    chromium libcpp-httplib-dev
     pybind11-dev python3-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
     glslang-tools spirv-cross libhwy-dev
 )

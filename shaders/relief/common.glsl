@@ -99,6 +99,13 @@ ReliefHit reliefHitAt(ReliefRay ray, float t, int steps, ReliefParams p) {
                      (p.depth * p.midLevel - q.z) / p.mapSize.x, q, steps);
 }
 
+// hit ? reliefHitAt(ray, t, steps, p) : reliefNoHit(steps), for GLSL ES 3.00 / WebGL, where the
+// ternary operator takes no structures.
+ReliefHit reliefHitIf(bool hit, ReliefRay ray, float t, int steps, ReliefParams p) {
+    if (hit) return reliefHitAt(ray, t, steps, p);
+    return reliefNoHit(steps);
+}
+
 // The shadow ray of a hit toward a light (tangent space, pointing to the light): from just above
 // the hit. Lights at or below the surface plane give a ray with direction.z <= 0.
 ReliefRay reliefShadowRay(ReliefHit hit, vec3 lightDirTangent, ReliefParams p) {

@@ -248,11 +248,10 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D orie
             if (tHit < kReliefInfinity) return reliefHitAt(ray, tHit, steps, p);
         }
         if (!reliefAdvance(ascent, tree, r, b, e, c))
-            return reliefExitsThroughFloor(ray, span.y, p) ? reliefHitAt(ray, span.y, steps, p)
-                                                           : reliefNoHit(steps);
+            return reliefHitIf(reliefExitsThroughFloor(ray, span.y, p), ray, span.y, steps, p);
     }
     // Capped (max-steps > 0, the paper's fixed loop): a hit at the cursor.
-    return p.maxSteps > 0 ? reliefHitAt(ray, c.t, steps, p) : reliefNoHit(steps);
+    return reliefHitIf(p.maxSteps > 0, ray, c.t, steps, p);
 }
 
 // The walk from a view ray (descending only), and the shadow query on the same walk.

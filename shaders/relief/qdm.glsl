@@ -40,9 +40,8 @@ ReliefHit reliefQdmPaperMarch(sampler2D heights, sampler2D qdm, ReliefRay ray, R
     int steps = 0;
     if (d.z >= 0.0) {  // the reference walk (ExactTracer::trace)
         float tHit;
-        return reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p)
-                   ? reliefHitAt(ray, tHit, steps, p)
-                   : reliefNoHit(steps);
+        bool hit = reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p);
+        return reliefHitIf(hit, ray, tHit, steps, p);
     }
     float horizontal = sqrt(d.x * d.x + d.y * d.y);
     float t = span.x, dt = kReliefInfinity;
@@ -56,8 +55,7 @@ ReliefHit reliefQdmPaperMarch(sampler2D heights, sampler2D qdm, ReliefRay ray, R
         if (!(t < span.y)) break;
     }
     if (!(t < span.y))
-        return reliefExitsThroughFloor(ray, span.y, p) ? reliefHitAt(ray, span.y, steps, p)
-                                                       : reliefNoHit(steps);
+        return reliefHitIf(reliefExitsThroughFloor(ray, span.y, p), ray, span.y, steps, p);
     return reliefHitAt(ray, t, steps, p);
 }
 

@@ -39,8 +39,7 @@ ReliefHit reliefRelaxedCone(sampler2D heights, sampler2D cones, vec2 uv, vec3 vi
     float lo = tPrev, hi = t;
     if (!reliefRelaxedBelow(heights, ray, hi, p)) {
         if (hi < span.y) return reliefHitAt(ray, hi, steps, p);  // not converged: the last position
-        return reliefExitsThroughFloor(ray, span.y, p) ? reliefHitAt(ray, span.y, steps, p)
-                                                       : reliefNoHit(steps);
+        return reliefHitIf(reliefExitsThroughFloor(ray, span.y, p), ray, span.y, steps, p);
     }
     for (int k = 0; k < p.binarySteps; ++k) {
         ++steps;

@@ -117,8 +117,7 @@ ReliefHit reliefSafeStepMarch(sampler2D heights, sampler2D map, int kind, Relief
         float dt = reliefSafeStep(kind, map, ray.origin + t * d, horizontal, d.z, p);
         if (dt >= stall) {
             if (t + dt >= span.y)  // leaves the box without meeting S inside it
-                return reliefExitsThroughFloor(ray, span.y, p) ? reliefHitAt(ray, span.y, steps, p)
-                                                               : reliefNoHit(steps);
+                return reliefHitIf(reliefExitsThroughFloor(ray, span.y, p), ray, span.y, steps, p);
             t += dt;
             continue;
         }
@@ -129,8 +128,7 @@ ReliefHit reliefSafeStepMarch(sampler2D heights, sampler2D map, int kind, Relief
         float th = reliefFirstHitInCell(heights, ray, cell.ci, cell.cj, range.x, range.y, p);
         if (th <= range.y) return reliefHitAt(ray, th, steps, p);
         if (range.y >= span.y)
-            return reliefExitsThroughFloor(ray, span.y, p) ? reliefHitAt(ray, span.y, steps, p)
-                                                           : reliefNoHit(steps);
+            return reliefHitIf(reliefExitsThroughFloor(ray, span.y, p), ray, span.y, steps, p);
         t = range.y > t ? range.y : cell.tb;
     }
     return reliefHitAt(ray, t, steps, p);  // capped: the last position, never past the first hit

@@ -121,9 +121,10 @@ ReliefHit reliefSafetyTrace(sampler2D heights, sampler2D m0, sampler2D m1, sampl
                      d.z <= (tan(radians(p.phiMax)) - 1e-6) * sqrt(d.x * d.x + d.y * d.y);
     bool served = p.exterior == 0 || o.z >= p.maxZ || o.z <= 0.0 || o.x <= 0.0 || o.y <= 0.0 ||
                   o.x >= p.mapSize.x || o.y >= p.mapSize.y;
-    if (!withinPhi || !served)
-        return reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p)
-                   ? reliefHitAt(ray, tHit, steps, p) : reliefNoHit(steps);
+    if (!withinPhi || !served) {
+        bool hit = reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p);
+        return reliefHitIf(hit, ray, tHit, steps, p);
+    }
     ReliefWalk w;
     w.axis = abs(d.x) >= abs(d.y) ? 0 : 1;
     float dA = w.axis == 0 ? d.x : d.y;
@@ -145,9 +146,10 @@ ReliefHit reliefSafetyTrace(sampler2D heights, sampler2D m0, sampler2D m1, sampl
         int kL = int(w.sign > 0 ? floor(aExit) : ceil(aExit));
         w.count = (kL - w.k0) * w.sign;
     }
-    if (nearVertical || w.count < kMinCenterlines)  // near-vertical: a handful of cells
-        return reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p)
-                   ? reliefHitAt(ray, tHit, steps, p) : reliefNoHit(steps);
+    if (nearVertical || w.count < kMinCenterlines) {  // near-vertical: a handful of cells
+        bool hit = reliefCellsHit(heights, ray, span.x, span.y, true, tHit, steps, p);
+        return reliefHitIf(hit, ray, tHit, steps, p);
+    }
     if (reliefCellsHit(heights, ray, span.x, reliefWalkT(w, 0), false, tHit, steps, p))
         return reliefHitAt(ray, tHit, steps, p);  // up to the first centerline
     float margin = 1e-4 * (1.0 + p.maxZ);
@@ -179,8 +181,8 @@ ReliefHit reliefSafetyTrace(sampler2D heights, sampler2D m0, sampler2D m1, sampl
         n = hi;  // a false alarm within the margin: above S there after all
     }
     // From the last centerline to the exit.
-    return reliefCellsHit(heights, ray, reliefWalkT(w, w.count), span.y, true, tHit, steps, p)
-               ? reliefHitAt(ray, tHit, steps, p) : reliefNoHit(steps);
+    bool hit = reliefCellsHit(heights, ray, reliefWalkT(w, w.count), span.y, true, tHit, steps, p);
+    return reliefHitIf(hit, ray, tHit, steps, p);
 }
 
 // The view ray's march (descending only), and the shadow query on the same march.

@@ -115,6 +115,7 @@ void addRenderCommand(CLI::App& app);
 void addHelpCommand(CLI::App& app);
 void addBakeCommand(CLI::App& app);
 void addBenchCommand(CLI::App& app);
+void addServeCommand(CLI::App& app);  // cmd_serve.cpp: web/ and the shader library on localhost
 void addViewCommand(CLI::App& app);  // cmd_view.cpp: the interactive viewer (GLFW + ImGui)
 
 }  // namespace relief::cli

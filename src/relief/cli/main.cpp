@@ -27,6 +27,7 @@ void addCommands(CLI::App& app) {
     addBakeCommand(app);
     addBenchCommand(app);
     addViewCommand(app);
+    addServeCommand(app);
     addHelpCommand(app);
 }
 
