@@ -298,9 +298,183 @@ private:
     std::vector<float> m_z[3], m_g[3];
 };
 
+// A per-class bound on how high a cell's triangle planes reach when extended back to the
+// segment s_τ of a texel k columns behind: isLimiting needs a plane strictly above S (so above
+// the segment's lowest point, by its eps) somewhere on s_τ. A plane z0 + pa·a + pb·b has its
+// maximum over s_τ at V − pa·k − pb·δ, V = its height at the cell's near edge and centre plus
+// |pb|/2, δ = cell centre − b0 (translation invariant, so repeat-mode copies share it). Unlike
+// CellBounds this sees that land rising away from a texel is harmless, which makes flat sea
+// beside a coast cheap. Kept as a max pyramid of aligned 2^L × 2^L blocks (max V, max −pa,
+// range of −pb, rounded outwards), so a run of columns of a wide wedge is dismissed in a few
+// reads where the old scan visited every cell of it.
+class PlaneBounds {
+public:
+    PlaneBounds(const Surface& s, int cls) : m_cls(cls) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        const int extra = m_repeat ? 0 : 1;  // clamp: cells -1 .. W-1
+        const bool xClass = cls < kYPlus;
+        m_nu = (xClass ? s.width() : s.height()) + extra;
+        m_nv = (xClass ? s.height() : s.width()) + extra;
+        const Frame f{cls};
+        m_levels.push_back({m_nu, m_nv, std::vector<Entry>(size_t(m_nu) * size_t(m_nv))});
+        std::vector<float> steepest(size_t(m_nu), 0.0f);
+        parallelRanges(m_nu, 16, [&](int64_t begin, int64_t end) {
+            std::array<LocalTriangle, 2> tris;
+            for (int64_t u = begin; u < end; ++u)
+                for (int v = 0; v < m_nv; ++v) {
+                    const int a = int(u) - extra, b = v - extra;
+                    const int ci = xClass ? a : b, cj = xClass ? b : a;
+                    Entry e = kEmpty;
+                    if (cellTriangles(s, f, ci, cj, tris))
+                        for (const LocalTriangle& t : tris) {
+                            const double near = std::min({t.a[0], t.a[1], t.a[2]});
+                            const double centre = std::min({t.b[0], t.b[1], t.b[2]}) + 0.5;
+                            const double q = t.z0 + t.pa * near + t.pb * centre;
+                            e.v = std::max(e.v, roundUp(q + 0.5 * std::abs(t.pb)));
+                            e.a = std::max(e.a, roundUp(-t.pa));
+                            e.pmax = std::max(e.pmax, roundUp(-t.pb));
+                            e.pmin = std::min(e.pmin, -roundUp(t.pb));
+                            steepest[size_t(u)] = std::max(
+                                {steepest[size_t(u)], float(std::abs(t.pa)), float(std::abs(t.pb))});
+                        }
+                    m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)] = e;
+                }
+        });
+        // Magnitude of the doubles that isLimiting and the bounds add (z0 reaches back to the
+        // origin), for their rounding.
+        const float slope = *std::max_element(steepest.begin(), steepest.end());
+        m_rounding = 1e-15 * 8.0 * (1.0 + double(s.maxZ()) + double(slope) * (m_nu + m_nv + 4.0));
+        while (m_levels.size() < size_t(kLevels) &&
+               (m_levels.back().nu > 1 || m_levels.back().nv > 1)) {
+            const Level& fine = m_levels.back();
+            Level coarse{(fine.nu + 1) / 2, (fine.nv + 1) / 2, {}};
+            coarse.data.assign(size_t(coarse.nu) * size_t(coarse.nv), kEmpty);
+            for (int u = 0; u < fine.nu; ++u)
+                for (int v = 0; v < fine.nv; ++v)
+                    merge(coarse.data[size_t(u / 2) * size_t(coarse.nv) + size_t(v / 2)],
+                          fine.data[size_t(u) * size_t(fine.nv) + size_t(v)]);
+            m_levels.push_back(std::move(coarse));
+        }
+    }
+
+    // How many columns from column k on (at most kLast − k + 1) hold no cell that can be
+    // limiting for texel segment `seg` (lowest point `lowest`); 0 when no coarse block proves
+    // it. `cross`: cells across the axis (clamp: -1 .. cross − 1).
+    int skipColumns(const SegmentHeights& seg, int k, int kLast, double lowest, int cross) const {
+        const Frame f{m_cls};
+        const bool forward = m_cls == kXPlus || m_cls == kYPlus;
+        const int u = storedAlong(f, seg.a0 + k);
+        const double limit = threshold(seg, lowest);
+        const int top = std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(k + 4))));
+        for (int level = top; level >= 1; --level) {
+            const int size = 1 << level;
+            const int start = (u >> level) << level;
+            const int count = forward ? std::min(start + size, m_nu) - u : u - start + 1;
+            const int kEnd = std::min(k + count - 1, kLast);
+            int b0 = seg.b0 - 2 - kEnd, b1 = seg.b0 + 1 + kEnd;
+            if (!m_repeat) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
+            if (b0 > b1) return kEnd - k + 1;
+            const int u0 = forward ? u : u - (kEnd - k), u1 = forward ? u + (kEnd - k) : u;
+            Entry e = kEmpty;
+            if (!gather(level, u0, u1, b0, b1, e)) continue;
+            if (bound(e, k, kEnd, b0 + 0.5 - seg.b0, b1 + 0.5 - seg.b0) <= limit)
+                return kEnd - k + 1;
+        }
+        return 0;
+    }
+
+    // The same for one cell (local column a0 + k, cross index bc).
+    bool dismissCell(const SegmentHeights& seg, int bc, int k, double lowest) const {
+        const Frame f{m_cls};
+        const int u = storedAlong(f, seg.a0 + k);
+        const int v = m_repeat ? wrap(bc, m_nv) : bc + 1;
+        const double delta = bc + 0.5 - seg.b0;
+        return bound(m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)], k, k, delta, delta) <=
+               threshold(seg, lowest);
+    }
+
+private:
+    struct Entry {
+        float v, a, pmax, pmin;  // max V, max −pa, max −pb, min −pb
+    };
+    struct Level {
+        int nu, nv;
+        std::vector<Entry> data;
+    };
+    static constexpr int kLevels = 9;    // blocks up to 256²
+    static constexpr int kMaxReads = 8;  // per level tried
+    static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
+
+    static float roundUp(double v) {
+        const float f = float(v);
+        return double(f) < v ? std::nextafter(f, kInfinity) : f;
+    }
+    static int wrap(int v, int n) {
+        v %= n;
+        return v < 0 ? v + n : v;
+    }
+    static void merge(Entry& to, const Entry& from) {
+        to.v = std::max(to.v, from.v);
+        to.a = std::max(to.a, from.a);
+        to.pmax = std::max(to.pmax, from.pmax);
+        to.pmin = std::min(to.pmin, from.pmin);
+    }
+    // Highest plane of the entry's cells over s_τ, for cells in columns k .. kEnd and with
+    // centre offsets δ in [d0, d1] (−∞ for no cell).
+    static double bound(const Entry& e, int k, int kEnd, double d0, double d1) {
+        if (e.v == -kInfinity) return -kInfinity;
+        const double along = double(e.a) * double(e.a >= 0.0f ? kEnd : k);
+        const double across = std::max({d0 * double(e.pmin), d0 * double(e.pmax),
+                                        d1 * double(e.pmin), d1 * double(e.pmax)});
+        return double(e.v) + along + across;
+    }
+    // Planes at or below this cannot be above S by isLimiting's eps, rounding included.
+    double threshold(const SegmentHeights& seg, double lowest) const {
+        return lowest + 0.5e-9 * (1.0 + std::abs(seg.mid)) - m_rounding;
+    }
+    int storedAlong(const Frame& f, int a) const {
+        int ci, cj;
+        f.worldCell(a, 0, ci, cj);
+        const int along = m_cls < kYPlus ? ci : cj;
+        return m_repeat ? wrap(along, m_nu) : along + 1;
+    }
+    // Max over blocks of `level` covering stored columns [u0, u1] and cells [b0, b1] across
+    // (wrapping in repeat mode); false when that takes more than kMaxReads reads.
+    bool gather(int level, int u0, int u1, int b0, int b1, Entry& e) const {
+        int parts[2][2];
+        int count = 1;
+        if (m_repeat && b1 - b0 + 1 >= m_nv) {
+            parts[0][0] = 0, parts[0][1] = m_nv - 1;
+        } else if (m_repeat) {
+            const int span = b1 - b0, v0 = wrap(b0, m_nv);
+            parts[0][0] = v0, parts[0][1] = std::min(v0 + span, m_nv - 1);
+            if (v0 + span >= m_nv) parts[1][0] = 0, parts[1][1] = v0 + span - m_nv, count = 2;
+        } else {
+            parts[0][0] = b0 + 1, parts[0][1] = b1 + 1;
+        }
+        const Level& l = m_levels[size_t(level)];
+        const int bu0 = u0 >> level, bu1 = u1 >> level;
+        int reads = 0;
+        for (int p = 0; p < count; ++p) reads += (parts[p][1] >> level) - (parts[p][0] >> level) + 1;
+        if (reads * (bu1 - bu0 + 1) > kMaxReads) return false;
+        for (int bu = bu0; bu <= bu1; ++bu)
+            for (int p = 0; p < count; ++p)
+                for (int bv = parts[p][0] >> level; bv <= (parts[p][1] >> level); ++bv)
+                    merge(e, l.data[size_t(bu) * size_t(l.nv) + size_t(bv)]);
+        return true;
+    }
+
+    int m_cls;
+    bool m_repeat;
+    int m_nu, m_nv;
+    double m_rounding = 0.0;
+    std::vector<Level> m_levels;
+};
+
 struct Bounds {
     const CellBounds* alongY;  // x classes
     const CellBounds* alongX;  // y classes
+    const PlaneBounds* planes = nullptr;  // the texel's class; none: the reference scan
 };
 
 // Limiting for the ray set of the build: all rays, or (exterior set) exterior rays only, which
@@ -320,7 +494,15 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
     const int cross = crossCount(s, cls);
     const CellBounds* cells = bounds ? (cls < kYPlus ? bounds->alongY : bounds->alongX) : nullptr;
     std::array<LocalTriangle, 2> tris;
-    for (int k = firstColumn; k < maxDistance && k <= ahead; ++k) {
+    const PlaneBounds* planes = bounds ? bounds->planes : nullptr;
+    const int kLast = std::min(maxDistance - 1, ahead);
+    for (int k = firstColumn; k <= kLast; ++k) {
+        if (planes) {
+            if (const int skip = planes->skipColumns(seg, k, kLast, lowest, cross)) {
+                k += skip - 1;
+                continue;
+            }
+        }
         int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
         if (clamp) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
         int line, unused;
@@ -329,6 +511,7 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
         if (cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi)) continue;  // whole column
         for (int bc = b0; bc <= b1; ++bc) {
             if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) continue;
+            if (planes && planes->dismissCell(seg, bc, k, lowest)) continue;
             int ci, cj;
             f.worldCell(seg.a0 + k, bc, ci, cj);
             if (!cellTriangles(s, f, ci, cj, tris)) continue;
@@ -419,13 +602,15 @@ int safetyDistanceDirect(const Surface& s, int cls, int i, int j, double tanPhi,
     return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr, &visibility);
 }
 
-DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
+namespace {
+
+// planes: prune with PlaneBounds (the builder), else the reference scan; same maps.
+DistanceMap buildDistances(const Surface& s, const BuildOptions& options, bool planes) {
     const int w = s.width(), h = s.height();
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
     int maxDistance = std::clamp(options.maxDistance, 1, 65535);
     if (s.edge() == EdgeMode::Repeat) maxDistance = std::min(maxDistance, std::max(w, h));
     const CellBounds alongY(s, true), alongX(s, false);
-    const Bounds bounds{&alongY, &alongX};
     std::unique_ptr<const ExteriorVisibility> exterior;
     if (options.exterior) exterior = std::make_unique<const ExteriorVisibility>(s);
     DistanceMap map{w, h, kClassCount, {}};
@@ -435,17 +620,22 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
         for (int c = 0; c < kClassCount; ++c)
             firstColumns[c] = firstSteepColumns(s, c < kYPlus ? alongY : alongX, c, tanPhi,
                                                 maxDistance);
-    parallelRanges(int64_t(kClassCount) * h, 1, [&](int64_t begin, int64_t end) {
-        for (int64_t row = begin; row < end; ++row) {
-            const int cls = int(row / h), j = int(row % h);
-            uint16_t* out = &map.r[size_t(row) * size_t(w)];
-            const uint16_t* start =
-                firstColumns[cls].empty() ? nullptr : &firstColumns[cls][size_t(j) * size_t(w)];
-            for (int i = 0; i < w; ++i)
-                out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds,
-                                            exterior.get(), start ? start[i] : 0));
-        }
-    });
+    for (int cls = 0; cls < kClassCount; ++cls) {  // one class's plane bounds at a time (memory)
+        std::unique_ptr<const PlaneBounds> classPlanes;
+        if (planes) classPlanes = std::make_unique<const PlaneBounds>(s, cls);
+        const Bounds bounds{&alongY, &alongX, classPlanes.get()};
+        parallelRanges(h, 1, [&](int64_t begin, int64_t end) {
+            for (int64_t j = begin; j < end; ++j) {
+                uint16_t* out = &map.r[(size_t(cls) * size_t(h) + size_t(j)) * size_t(w)];
+                const uint16_t* start = firstColumns[cls].empty()
+                                            ? nullptr
+                                            : &firstColumns[cls][size_t(j) * size_t(w)];
+                for (int i = 0; i < w; ++i)
+                    out[i] = uint16_t(scanTexel(s, cls, i, int(j), tanPhi, maxDistance, &bounds,
+                                                exterior.get(), start ? start[i] : 0));
+            }
+        });
+    }
     if (!options.isotropic) return map;
     DistanceMap iso{w, h, 1, std::vector<uint16_t>(size_t(w) * size_t(h))};
     for (size_t k = 0; k < iso.r.size(); ++k) {
@@ -454,6 +644,16 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
         iso.r[k] = r;
     }
     return iso;
+}
+
+}  // namespace
+
+DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
+    return buildDistances(s, options, true);
+}
+
+DistanceMap buildDistanceMapReference(const Surface& s, const BuildOptions& options) {
+    return buildDistances(s, options, false);
 }
 
 // ---- Cylinder-cone ----
