@@ -383,14 +383,40 @@ public:
         return 0;
     }
 
-    // The same for one cell (local column a0 + k, cross index bc).
-    bool dismissCell(const SegmentHeights& seg, int bc, int k, double lowest) const {
-        const Frame f{m_cls};
-        const int u = storedAlong(f, seg.a0 + k);
-        const int v = m_repeat ? wrap(bc, m_nv) : bc + 1;
-        const double delta = bc + 0.5 - seg.b0;
-        return bound(m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)], k, k, delta, delta) <=
-               threshold(seg, lowest);
+    // Calls test(bc) for the cells bc in [b0, b1] of column k that the bounds cannot dismiss,
+    // going down the pyramid from blocks about as wide as the range; true as soon as a test
+    // is. In repeat mode the range may wrap (several times for a wide wedge).
+    template <class Test>
+    bool anyCell(const SegmentHeights& seg, int k, int b0, int b1, double lowest,
+                 Test&& test) const {
+        const int u = storedAlong(Frame{m_cls}, seg.a0 + k);
+        const double limit = threshold(seg, lowest);
+        auto visit = [&](auto& self, int level, int bv, int v0, int v1, int offset) -> bool {
+            const int lo = std::max(v0, bv << level);
+            const int hi = std::min(v1, ((bv + 1) << level) - 1);
+            if (lo > hi) return false;
+            const Level& l = m_levels[size_t(level)];
+            const Entry& e = l.data[size_t(u >> level) * size_t(l.nv) + size_t(bv)];
+            if (bound(e, k, k, lo + offset + 0.5 - seg.b0, hi + offset + 0.5 - seg.b0) <= limit)
+                return false;
+            if (level == 0) return test(lo + offset);
+            return self(self, level - 1, 2 * bv, v0, v1, offset) ||
+                   self(self, level - 1, 2 * bv + 1, v0, v1, offset);
+        };
+        auto piece = [&](int v0, int v1, int offset) {
+            const int top =
+                std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(v1 - v0 + 1))) - 1);
+            for (int bv = v0 >> top; bv <= (v1 >> top); ++bv)
+                if (visit(visit, top, bv, v0, v1, offset)) return true;
+            return false;
+        };
+        if (!m_repeat) return piece(b0 + 1, b1 + 1, -1);
+        for (int b = b0; b <= b1;) {  // one period copy at a time
+            const int v = wrap(b, m_nv), end = std::min(b1, b + (m_nv - 1 - v));
+            if (piece(v, v + (end - b), b - v)) return true;
+            b = end + 1;
+        }
+        return false;
     }
 
 private:
@@ -509,16 +535,20 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
         f.worldCell(seg.a0 + k, 0, line, unused);
         if (cls >= kYPlus) f.worldCell(seg.a0 + k, 0, unused, line);
         if (cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi)) continue;  // whole column
-        for (int bc = b0; bc <= b1; ++bc) {
-            if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) continue;
-            if (planes && planes->dismissCell(seg, bc, k, lowest)) continue;
+        auto limitingCell = [&](int bc) {
+            if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) return false;
             int ci, cj;
             f.worldCell(seg.a0 + k, bc, ci, cj);
-            if (!cellTriangles(s, f, ci, cj, tris)) continue;
-            if (limitingFor(exterior, f, seg, tris[0], tanPhi) ||
-                limitingFor(exterior, f, seg, tris[1], tanPhi))
-                return k;
+            return cellTriangles(s, f, ci, cj, tris) &&
+                   (limitingFor(exterior, f, seg, tris[0], tanPhi) ||
+                    limitingFor(exterior, f, seg, tris[1], tanPhi));
+        };
+        if (planes) {
+            if (planes->anyCell(seg, k, b0, b1, lowest, limitingCell)) return k;
+            continue;
         }
+        for (int bc = b0; bc <= b1; ++bc)
+            if (limitingCell(bc)) return k;
     }
     return maxDistance;
 }
