@@ -375,10 +375,7 @@ public:
             if (!m_repeat) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
             if (b0 > b1) return kEnd - k + 1;
             const int u0 = forward ? u : u - (kEnd - k), u1 = forward ? u + (kEnd - k) : u;
-            Entry e = kEmpty;
-            if (!gather(level, u0, u1, b0, b1, e)) continue;
-            if (bound(e, k, kEnd, b0 + 0.5 - seg.b0, b1 + 0.5 - seg.b0) <= limit)
-                return kEnd - k + 1;
+            if (below(level, u0, u1, b0, b1, k, kEnd, seg.b0, limit)) return kEnd - k + 1;
         }
         return 0;
     }
@@ -428,7 +425,7 @@ private:
         std::vector<Entry> data;
     };
     static constexpr int kLevels = 9;    // blocks up to 256²
-    static constexpr int kMaxReads = 8;  // per level tried
+    static constexpr int kMaxReads = 16;  // per level tried
     static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
 
     static float roundUp(double v) {
@@ -464,29 +461,42 @@ private:
         const int along = m_cls < kYPlus ? ci : cj;
         return m_repeat ? wrap(along, m_nu) : along + 1;
     }
-    // Max over blocks of `level` covering stored columns [u0, u1] and cells [b0, b1] across
-    // (wrapping in repeat mode); false when that takes more than kMaxReads reads.
-    bool gather(int level, int u0, int u1, int b0, int b1, Entry& e) const {
-        int parts[2][2];
+    // Whether every block of `level` covering stored columns [u0, u1] (local columns k .. kEnd)
+    // and cells [b0, b1] across (wrapping in repeat mode) is at or below `limit`, each block
+    // bounded with its own offsets; false too when that takes more than kMaxReads reads.
+    bool below(int level, int u0, int u1, int b0, int b1, int k, int kEnd, int texelB,
+               double limit) const {
+        int parts[2][3];  // stored v range and the offset to local b
         int count = 1;
+        bool whole = false;
         if (m_repeat && b1 - b0 + 1 >= m_nv) {
-            parts[0][0] = 0, parts[0][1] = m_nv - 1;
+            parts[0][0] = 0, parts[0][1] = m_nv - 1, whole = true;
         } else if (m_repeat) {
             const int span = b1 - b0, v0 = wrap(b0, m_nv);
-            parts[0][0] = v0, parts[0][1] = std::min(v0 + span, m_nv - 1);
-            if (v0 + span >= m_nv) parts[1][0] = 0, parts[1][1] = v0 + span - m_nv, count = 2;
+            parts[0][0] = v0, parts[0][1] = std::min(v0 + span, m_nv - 1), parts[0][2] = b0 - v0;
+            if (v0 + span >= m_nv)
+                parts[1][0] = 0, parts[1][1] = v0 + span - m_nv, parts[1][2] = b0 - v0 + m_nv,
+                count = 2;
         } else {
-            parts[0][0] = b0 + 1, parts[0][1] = b1 + 1;
+            parts[0][0] = b0 + 1, parts[0][1] = b1 + 1, parts[0][2] = -1;
         }
         const Level& l = m_levels[size_t(level)];
         const int bu0 = u0 >> level, bu1 = u1 >> level;
         int reads = 0;
         for (int p = 0; p < count; ++p) reads += (parts[p][1] >> level) - (parts[p][0] >> level) + 1;
         if (reads * (bu1 - bu0 + 1) > kMaxReads) return false;
-        for (int bu = bu0; bu <= bu1; ++bu)
-            for (int p = 0; p < count; ++p)
-                for (int bv = parts[p][0] >> level; bv <= (parts[p][1] >> level); ++bv)
-                    merge(e, l.data[size_t(bu) * size_t(l.nv) + size_t(bv)]);
+        for (int p = 0; p < count; ++p)
+            for (int bv = parts[p][0] >> level; bv <= (parts[p][1] >> level); ++bv) {
+                // A wrapped whole period: a stored cell stands for several offsets.
+                const int lo = std::max(parts[p][0], bv << level);
+                const int hi = std::min(parts[p][1], ((bv + 1) << level) - 1);
+                const double d0 = whole ? b0 + 0.5 - texelB : lo + parts[p][2] + 0.5 - texelB;
+                const double d1 = whole ? b1 + 0.5 - texelB : hi + parts[p][2] + 0.5 - texelB;
+                for (int bu = bu0; bu <= bu1; ++bu)
+                    if (bound(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], k, kEnd, d0, d1) >
+                        limit)
+                        return false;
+            }
         return true;
     }
 
@@ -534,7 +544,8 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
         int line, unused;
         f.worldCell(seg.a0 + k, 0, line, unused);
         if (cls >= kYPlus) f.worldCell(seg.a0 + k, 0, unused, line);
-        if (cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi)) continue;  // whole column
+        if (!planes && cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi))
+            continue;  // whole column (the plane bounds do better but keep this per cell)
         auto limitingCell = [&](int bc) {
             if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) return false;
             int ci, cj;
