@@ -1,4 +1,5 @@
-// The pruned builders against their reference scans: bit-identical maps on many small maps
+// The pruned builders (safety distances, cylinder-cones) against their reference scans:
+// bit-identical maps on many small maps
 // (generators, adversarial flats, spikes and coasts, crops of real terrain), every build option,
 // clamp and repeat.
 #include <support/safety_test_support.h>
@@ -113,6 +114,13 @@ TEST(SafetyBuild, PrunedMapsEqualReference) {
                                           << o.exteriorSlope;
                     texels += ref.r.size();
                     ++maps;
+                    const CylinderConeMap cones = buildConeMap(s, ref, o);
+                    const CylinderConeMap coneRef = buildConeMapReference(s, ref, o);
+                    ASSERT_EQ(cones.texels.size(), coneRef.texels.size());
+                    EXPECT_EQ(std::memcmp(cones.texels.data(), coneRef.texels.data(),
+                                          cones.texels.size() * sizeof(ConeTexel)),
+                              0)
+                        << c.name << " " << toString(edge) << " cones";
                 }
             }
     }

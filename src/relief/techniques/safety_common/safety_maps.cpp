@@ -777,6 +777,93 @@ private:
     std::vector<float> m_lineMax;
 };
 
+// A max pyramid of the samples over aligned 2^L × 2^L blocks (world axes, shared by the four
+// classes): bounds hbar over a run of slope-scan columns at once, so the scan skips the runs
+// that cannot raise the slope (flat sea) instead of reading each column's window.
+class SampleMax {
+public:
+    explicit SampleMax(const Surface& s) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        Level base{s.width(), s.height(), std::vector<float>(size_t(s.width()) * size_t(s.height()))};
+        for (int y = 0; y < s.height(); ++y)
+            for (int x = 0; x < s.width(); ++x)
+                base.data[size_t(y) * size_t(s.width()) + size_t(x)] = s.sampleZ(x, y);
+        m_levels.push_back(std::move(base));
+        while (m_levels.size() < size_t(kLevels) && (m_levels.back().w > 1 || m_levels.back().h > 1)) {
+            const Level& fine = m_levels.back();
+            Level coarse{(fine.w + 1) / 2, (fine.h + 1) / 2, {}};
+            coarse.data.assign(size_t(coarse.w) * size_t(coarse.h), -kInfinity);
+            for (int y = 0; y < fine.h; ++y)
+                for (int x = 0; x < fine.w; ++x) {
+                    float& to = coarse.data[size_t(y / 2) * size_t(coarse.w) + size_t(x / 2)];
+                    to = std::max(to, fine.data[size_t(y) * size_t(fine.w) + size_t(x)]);
+                }
+            m_levels.push_back(std::move(coarse));
+        }
+    }
+
+    int levels() const { return int(m_levels.size()); }
+
+    // An upper bound on the samples the window lookups of lines [l0, l1] (world index along
+    // the class axis, clamped or wrapped as WindowMax does) and cross samples [c0, c1] read;
+    // false when level `level` needs more than kMaxReads reads.
+    bool bound(bool xClass, int level, int l0, int l1, int c0, int c1, float& out) const {
+        const Level& base = m_levels[0];
+        const int lines = xClass ? base.w : base.h, length = xClass ? base.h : base.w;
+        int ranges[2][2][2];  // [axis: lines, cross][part][lo/hi]
+        int parts[2];
+        split(l0, l1, lines, ranges[0], parts[0]);
+        split(c0, c1, length, ranges[1], parts[1]);
+        if (parts[1] == 0 || parts[0] == 0) return out = -kInfinity, true;
+        int reads = 0;
+        for (int a = 0; a < parts[0]; ++a)
+            for (int b = 0; b < parts[1]; ++b)
+                reads += ((ranges[0][a][1] >> level) - (ranges[0][a][0] >> level) + 1) *
+                         ((ranges[1][b][1] >> level) - (ranges[1][b][0] >> level) + 1);
+        if (reads > kMaxReads) return false;
+        const Level& l = m_levels[size_t(level)];
+        float best = -kInfinity;
+        for (int a = 0; a < parts[0]; ++a)
+            for (int b = 0; b < parts[1]; ++b)
+                for (int p = ranges[0][a][0] >> level; p <= ranges[0][a][1] >> level; ++p)
+                    for (int q = ranges[1][b][0] >> level; q <= ranges[1][b][1] >> level; ++q) {
+                        const int x = xClass ? p : q, y = xClass ? q : p;
+                        best = std::max(best, l.data[size_t(y) * size_t(l.w) + size_t(x)]);
+                    }
+        out = best;
+        return true;
+    }
+
+private:
+    struct Level {
+        int w, h;
+        std::vector<float> data;
+    };
+    static constexpr int kLevels = 9;
+    static constexpr int kMaxReads = 16;
+
+    // [lo, hi] as stored ranges: clamped (clamp mode) or wrapped into at most two parts.
+    void split(int lo, int hi, int n, int (&out)[2][2], int& parts) const {
+        parts = 1;
+        if (!m_repeat) {
+            lo = std::clamp(lo, 0, n - 1), hi = std::clamp(hi, 0, n - 1);
+            out[0][0] = lo, out[0][1] = hi;
+            if (lo > hi) parts = 0;
+            return;
+        }
+        if (hi - lo + 1 >= n) {
+            out[0][0] = 0, out[0][1] = n - 1;
+            return;
+        }
+        const int span = hi - lo, v = ((lo % n) + n) % n;
+        out[0][0] = v, out[0][1] = std::min(v + span, n - 1);
+        if (v + span >= n) out[1][0] = 0, out[1][1] = v + span - n, parts = 2;
+    }
+
+    bool m_repeat;
+    std::vector<Level> m_levels;
+};
+
 // The line (world column for x classes, row for y classes) holding local abscissa a.
 int lineOf(const Frame& f, int a) {
     double X, Y;
@@ -824,8 +911,9 @@ float exteriorConeSlope(const Surface& s, const ExteriorVisibility& visibility, 
 }
 
 // Vertices that rays from s_τ can reach at local abscissa a0 + x lie in rows b0 ± (x + 2).
-ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, int j, int r,
-                    const ExteriorVisibility* exteriorSlope, double tanPhi, int& lookups) {
+ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax* peaks, int cls,
+                    int i, int j, int r, const ExteriorVisibility* exteriorSlope, double tanPhi,
+                    int& lookups) {
     const Frame f{cls};
     int a0, b0;
     f.texel(i, j, a0, b0);
@@ -850,8 +938,33 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, 
         c.slope = slope == -kInfinity ? 0.0f : slope;
         return c;
     }
+    const bool forward = cls == kXPlus || cls == kYPlus;
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
+        if (peaks && slope > -kInfinity) {
+            // Skip the run x .. x2 when no sample its windows read can raise the slope (the
+            // quotient is monotone in the sample, so the result is the scan's own).
+            const int line = lineOf(f, a0 + x);
+            const int top = std::min(peaks->levels() - 1, int(std::bit_width(unsigned(x + 4))));
+            int skipTo = 0;
+            for (int level = top; level >= 1 && !skipTo; --level) {
+                const int start = (line >> level) << level;
+                const int count = forward ? start + (1 << level) - line : line - start + 1;
+                const int x2 = std::min(x + count - 1, xEnd);
+                const int last = lineOf(f, a0 + x2);
+                float high;
+                if (!peaks->bound(cls < kYPlus, level, std::min(line, last), std::max(line, last),
+                                  b0 - x2 - 2, b0 + x2 + 2, high))
+                    continue;
+                const float rise = high - c.zc;
+                if ((rise >= 0.0f ? rise / float(x - r) : rise / float(x2 - r)) <= slope)
+                    skipTo = x2;
+            }
+            if (skipTo) {
+                x = skipTo;
+                continue;
+            }
+        }
         slope = std::max(slope, (hbar(x) - c.zc) / float(x - r));
     }
     if (slope == -kInfinity) slope = 0.0f;
@@ -903,53 +1016,64 @@ float coneSlopeDirect(const Surface& s, int cls, int i, int j, int r, float zc, 
     return slope == -kInfinity ? 0.0f : slope;
 }
 
-CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
-                             const BuildOptions& options) {
+namespace {
+
+// pruned: skip slope-scan runs by SampleMax (the builder), else the reference scan; same maps.
+// The texels are written in place (the isotropic map takes the classes' maxima as they come),
+// so the build holds the map plus one N-buffer orientation and the pyramids.
+CylinderConeMap buildCones(const Surface& s, const DistanceMap& radii, const BuildOptions& options,
+                           bool pruned) {
     const int w = s.width(), h = s.height();
     const size_t plane = size_t(w) * size_t(h);
     const int classes = options.isotropic ? 1 : kClassCount;
     CylinderConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
-    // All four classes are needed even for the isotropic map (its plane bounds all of them).
-    std::vector<ConeTexel> perClass(size_t(kClassCount) * plane);
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
     std::unique_ptr<const ExteriorVisibility> exterior;
     if (options.exterior && options.exteriorSlope)
         exterior = std::make_unique<const ExteriorVisibility>(s);
+    std::unique_ptr<const SampleMax> peaks;
+    if (pruned) peaks = std::make_unique<const SampleMax>(s);
+    // All four classes are needed even for the isotropic map (its plane bounds all of them).
     for (int axis = 0; axis < 2; ++axis) {  // one N-buffer orientation at a time (memory)
         const WindowMax windows(s, axis == 0);
-        parallelRanges(int64_t(2) * h, 1, [&](int64_t begin, int64_t end) {
+        parallelRanges(h, 1, [&](int64_t begin, int64_t end) {
             int lookups = 0;
-            for (int64_t row = begin; row < end; ++row) {
-                const int cls = 2 * axis + int(row / h), j = int(row % h);
-                for (int i = 0; i < w; ++i)
-                    perClass[size_t(cls) * plane + size_t(j) * size_t(w) + size_t(i)] =
-                        coneTexel(s, windows, cls, i, j, radii.at(cls, i, j),
-                                  exterior.get(), tanPhi, lookups);
-            }
+            for (int64_t j = begin; j < end; ++j)
+                for (int cls = 2 * axis; cls < 2 * axis + 2; ++cls)
+                    for (int i = 0; i < w; ++i) {
+                        const ConeTexel t = coneTexel(s, windows, peaks.get(), cls, i, int(j),
+                                                      radii.at(cls, i, int(j)), exterior.get(),
+                                                      tanPhi, lookups);
+                        const size_t k = size_t(j) * size_t(w) + size_t(i);
+                        if (classes == kClassCount) {
+                            map.texels[size_t(cls) * plane + k] = t;
+                        } else if (cls == 0) {
+                            map.texels[k] = t;  // same r (isotropic) in every class
+                        } else {
+                            ConeTexel& o = map.texels[k];
+                            o.zc = std::max(o.zc, t.zc);
+                            o.slope = std::max(o.slope, t.slope);
+                        }
+                    }
         });
     }
     const float maxZ = s.maxZ();
-    parallelRanges(int64_t(plane), 4096, [&](int64_t begin, int64_t end) {
-        for (int64_t k = begin; k < end; ++k) {
-            if (classes == kClassCount) {
-                for (int c = 0; c < kClassCount; ++c) {
-                    ConeTexel t = perClass[size_t(c) * plane + size_t(k)];
-                    finishTexel(t, maxZ);
-                    map.texels[size_t(c) * plane + size_t(k)] = t;
-                }
-                continue;
-            }
-            ConeTexel t = perClass[size_t(k)];  // same r (isotropic) in every class
-            for (int c = 1; c < kClassCount; ++c) {
-                const ConeTexel& o = perClass[size_t(c) * plane + size_t(k)];
-                t.zc = std::max(t.zc, o.zc);
-                t.slope = std::max(t.slope, o.slope);
-            }
-            finishTexel(t, maxZ);
-            map.texels[size_t(k)] = t;
-        }
+    parallelRanges(int64_t(map.texels.size()), 4096, [&](int64_t begin, int64_t end) {
+        for (int64_t k = begin; k < end; ++k) finishTexel(map.texels[size_t(k)], maxZ);
     });
     return map;
+}
+
+}  // namespace
+
+CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
+                             const BuildOptions& options) {
+    return buildCones(s, radii, options, true);
+}
+
+CylinderConeMap buildConeMapReference(const Surface& s, const DistanceMap& radii,
+                                      const BuildOptions& options) {
+    return buildCones(s, radii, options, false);
 }
 
 // ---- On disk ----

@@ -97,6 +97,9 @@ CylinderConeMap buildConeMap(const Surface& surface, const DistanceMap& radii,
 // buildDistanceMap without its plane-bound pruning (the scan it replaced): the same map, slower
 // where distances are large; the tests' reference.
 DistanceMap buildDistanceMapReference(const Surface& surface, const BuildOptions& options);
+// buildConeMap without skipping slope-scan runs: the same map; the tests' reference.
+CylinderConeMap buildConeMapReference(const Surface& surface, const DistanceMap& radii,
+                                      const BuildOptions& options);
 
 // The local frame of one class.
 struct Frame {
