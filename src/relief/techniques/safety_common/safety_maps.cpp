@@ -299,10 +299,10 @@ private:
 };
 
 // A per-class bound on how high a cell's triangle planes reach when extended back to the
-// segment s_τ of a texel k columns behind: isLimiting needs a plane strictly above S (so above
-// the segment's lowest point, by its eps) somewhere on s_τ. A plane z0 + pa·a + pb·b has its
-// maximum over s_τ at V − pa·k − pb·δ, V = its height at the cell's near edge and centre plus
-// |pb|/2, δ = cell centre − b0 (translation invariant, so repeat-mode copies share it). Unlike
+// segment s_τ of a texel k columns behind: isLimiting needs a plane above S by its eps at one
+// of b0 − ½, b0, b0 + ½. A plane z0 + pa·a + pb·b is there at V − pa·k − pb·(δ − o), V = its
+// height at the cell's near edge and centre, δ = cell centre − b0, o the point's offset
+// (translation invariant, so repeat-mode copies share it). Unlike
 // CellBounds this sees that land rising away from a texel is harmless, which makes flat sea
 // beside a coast cheap. Kept as a max pyramid of aligned 2^L × 2^L blocks (max V, max −pa,
 // range of −pb, rounded outwards), so a run of columns of a wide wedge is dismissed in a few
@@ -330,7 +330,7 @@ public:
                             const double near = std::min({t.a[0], t.a[1], t.a[2]});
                             const double centre = std::min({t.b[0], t.b[1], t.b[2]}) + 0.5;
                             const double q = t.z0 + t.pa * near + t.pb * centre;
-                            e.v = std::max(e.v, roundUp(q + 0.5 * std::abs(t.pb)));
+                            e.v = std::max(e.v, roundUp(q));
                             e.a = std::max(e.a, roundUp(-t.pa));
                             e.pmax = std::max(e.pmax, roundUp(-t.pb));
                             e.pmin = std::min(e.pmin, -roundUp(t.pb));
@@ -364,7 +364,7 @@ public:
         const Frame f{m_cls};
         const bool forward = m_cls == kXPlus || m_cls == kYPlus;
         const int u = storedAlong(f, seg.a0 + k);
-        const double limit = threshold(seg, lowest);
+        const Limits limit = limits(seg);
         const int top = std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(k + 4))));
         for (int level = top; level >= 1; --level) {
             const int size = 1 << level;
@@ -387,14 +387,14 @@ public:
     bool anyCell(const SegmentHeights& seg, int k, int b0, int b1, double lowest,
                  Test&& test) const {
         const int u = storedAlong(Frame{m_cls}, seg.a0 + k);
-        const double limit = threshold(seg, lowest);
+        const Limits limit = limits(seg);
         auto visit = [&](auto& self, int level, int bv, int v0, int v1, int offset) -> bool {
             const int lo = std::max(v0, bv << level);
             const int hi = std::min(v1, ((bv + 1) << level) - 1);
             if (lo > hi) return false;
             const Level& l = m_levels[size_t(level)];
             const Entry& e = l.data[size_t(u >> level) * size_t(l.nv) + size_t(bv)];
-            if (bound(e, k, k, lo + offset + 0.5 - seg.b0, hi + offset + 0.5 - seg.b0) <= limit)
+            if (harmless(e, k, k, lo + offset + 0.5 - seg.b0, hi + offset + 0.5 - seg.b0, limit))
                 return false;
             if (level == 0) return test(lo + offset);
             return self(self, level - 1, 2 * bv, v0, v1, offset) ||
@@ -442,18 +442,29 @@ private:
         to.pmax = std::max(to.pmax, from.pmax);
         to.pmin = std::min(to.pmin, from.pmin);
     }
-    // Highest plane of the entry's cells over s_τ, for cells in columns k .. kEnd and with
-    // centre offsets δ in [d0, d1] (−∞ for no cell).
-    static double bound(const Entry& e, int k, int kEnd, double d0, double d1) {
-        if (e.v == -kInfinity) return -kInfinity;
-        const double along = double(e.a) * double(e.a >= 0.0f ? kEnd : k);
-        const double across = std::max({d0 * double(e.pmin), d0 * double(e.pmax),
-                                        d1 * double(e.pmin), d1 * double(e.pmax)});
-        return double(e.v) + along + across;
+    // isLimiting's test points b0 − ½, b0, b0 + ½ of s_τ (plane − S is linear between them):
+    // a plane at or below S + eps/2 there (rounding included) is not above S by eps anywhere.
+    struct Limits {
+        double at[3];
+    };
+    static constexpr double kPoints[3] = {-0.5, 0.0, 0.5};
+    Limits limits(const SegmentHeights& seg) const {
+        const double slack = 0.5e-9 * (1.0 + std::abs(seg.mid)) - m_rounding;
+        return {{seg.lo + slack, seg.mid + slack, seg.hi + slack}};
     }
-    // Planes at or below this cannot be above S by isLimiting's eps, rounding included.
-    double threshold(const SegmentHeights& seg, double lowest) const {
-        return lowest + 0.5e-9 * (1.0 + std::abs(seg.mid)) - m_rounding;
+    // Whether the planes of the entry's cells, for cells in columns k .. kEnd with centre
+    // offsets δ in [d0, d1], stay at or below the limits at the three points.
+    static bool harmless(const Entry& e, int k, int kEnd, double d0, double d1,
+                         const Limits& limit) {
+        if (e.v == -kInfinity) return true;
+        const double base = double(e.v) + double(e.a) * double(e.a >= 0.0f ? kEnd : k);
+        for (int p = 0; p < 3; ++p) {
+            const double lo = d0 - kPoints[p], hi = d1 - kPoints[p];
+            const double across = std::max({lo * double(e.pmin), lo * double(e.pmax),
+                                            hi * double(e.pmin), hi * double(e.pmax)});
+            if (base + across > limit.at[p]) return false;
+        }
+        return true;
     }
     int storedAlong(const Frame& f, int a) const {
         int ci, cj;
@@ -465,7 +476,7 @@ private:
     // and cells [b0, b1] across (wrapping in repeat mode) is at or below `limit`, each block
     // bounded with its own offsets; false too when that takes more than kMaxReads reads.
     bool below(int level, int u0, int u1, int b0, int b1, int k, int kEnd, int texelB,
-               double limit) const {
+               const Limits& limit) const {
         int parts[2][3];  // stored v range and the offset to local b
         int count = 1;
         bool whole = false;
@@ -493,8 +504,8 @@ private:
                 const double d0 = whole ? b0 + 0.5 - texelB : lo + parts[p][2] + 0.5 - texelB;
                 const double d1 = whole ? b1 + 0.5 - texelB : hi + parts[p][2] + 0.5 - texelB;
                 for (int bu = bu0; bu <= bu1; ++bu)
-                    if (bound(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], k, kEnd, d0, d1) >
-                        limit)
+                    if (!harmless(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], k, kEnd, d0,
+                                  d1, limit))
                         return false;
             }
         return true;
