@@ -543,12 +543,14 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
     std::array<LocalTriangle, 2> tris;
     const PlaneBounds* planes = bounds ? bounds->planes : nullptr;
     const int kLast = std::min(maxDistance - 1, ahead);
+    int nextTry = firstColumn;  // after a failed skip, none for a while (rough terrain)
     for (int k = firstColumn; k <= kLast; ++k) {
-        if (planes) {
+        if (planes && k >= nextTry) {
             if (const int skip = planes->skipColumns(seg, k, kLast, lowest, cross)) {
                 k += skip - 1;
                 continue;
             }
+            nextTry = k + 1 + k / 4;
         }
         int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
         if (clamp) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
@@ -950,15 +952,16 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
         return c;
     }
     const bool forward = cls == kXPlus || cls == kYPlus;
+    int nextTry = r + 1;  // after a failed skip, none until past its run (rough terrain)
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
-        if (peaks && slope > -kInfinity) {
+        if (peaks && slope > -kInfinity && x >= nextTry) {
             // Skip the run x .. x2 when no sample its windows read can raise the slope (the
             // quotient is monotone in the sample, so the result is the scan's own).
             const int line = lineOf(f, a0 + x);
             const int top = std::min(peaks->levels() - 1, int(std::bit_width(unsigned(x + 4))));
             int skipTo = 0;
-            for (int level = top; level >= 1 && !skipTo; --level) {
+            for (int level = top; level >= std::max(1, top - 1) && !skipTo; --level) {
                 const int start = (line >> level) << level;
                 const int count = forward ? start + (1 << level) - line : line - start + 1;
                 const int x2 = std::min(x + count - 1, xEnd);
@@ -975,6 +978,7 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
                 x = skipTo;
                 continue;
             }
+            nextTry = x + std::max(1, (x - r) / 2);
         }
         slope = std::max(slope, (hbar(x) - c.zc) / float(x - r));
     }
