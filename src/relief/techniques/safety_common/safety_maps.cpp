@@ -298,9 +298,230 @@ private:
     std::vector<float> m_z[3], m_g[3];
 };
 
+// A per-class bound on how high a cell's triangle planes reach when extended back to the
+// segment s_τ of a texel k columns behind: isLimiting needs a plane above S by its eps at one
+// of b0 − ½, b0, b0 + ½. A plane z0 + pa·a + pb·b is there at V − pa·k − pb·(δ − o), V = its
+// height at the cell's near edge and centre, δ = cell centre − b0, o the point's offset
+// (translation invariant, so repeat-mode copies share it). Unlike
+// CellBounds this sees that land rising away from a texel is harmless, which makes flat sea
+// beside a coast cheap. Kept as a max pyramid of aligned 2^L × 2^L blocks (max V, max −pa,
+// range of −pb, rounded outwards), so a run of columns of a wide wedge is dismissed in a few
+// reads where the old scan visited every cell of it.
+class PlaneBounds {
+public:
+    PlaneBounds(const Surface& s, int cls) : m_cls(cls) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        const int extra = m_repeat ? 0 : 1;  // clamp: cells -1 .. W-1
+        const bool xClass = cls < kYPlus;
+        m_nu = (xClass ? s.width() : s.height()) + extra;
+        m_nv = (xClass ? s.height() : s.width()) + extra;
+        const Frame f{cls};
+        m_levels.push_back({m_nu, m_nv, std::vector<Entry>(size_t(m_nu) * size_t(m_nv))});
+        std::vector<float> steepest(size_t(m_nu), 0.0f);
+        parallelRanges(m_nu, 16, [&](int64_t begin, int64_t end) {
+            std::array<LocalTriangle, 2> tris;
+            for (int64_t u = begin; u < end; ++u)
+                for (int v = 0; v < m_nv; ++v) {
+                    const int a = int(u) - extra, b = v - extra;
+                    const int ci = xClass ? a : b, cj = xClass ? b : a;
+                    Entry e = kEmpty;
+                    if (cellTriangles(s, f, ci, cj, tris))
+                        for (const LocalTriangle& t : tris) {
+                            const double near = std::min({t.a[0], t.a[1], t.a[2]});
+                            const double centre = std::min({t.b[0], t.b[1], t.b[2]}) + 0.5;
+                            const double q = t.z0 + t.pa * near + t.pb * centre;
+                            e.v = std::max(e.v, roundUp(q));
+                            e.a = std::max(e.a, roundUp(-t.pa));
+                            e.pmax = std::max(e.pmax, roundUp(-t.pb));
+                            e.pmin = std::min(e.pmin, -roundUp(t.pb));
+                            steepest[size_t(u)] = std::max(
+                                {steepest[size_t(u)], float(std::abs(t.pa)), float(std::abs(t.pb))});
+                        }
+                    m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)] = e;
+                }
+        });
+        // Magnitude of the doubles that isLimiting and the bounds add (z0 reaches back to the
+        // origin), for their rounding.
+        const float slope = *std::max_element(steepest.begin(), steepest.end());
+        m_rounding = 1e-15 * 8.0 * (1.0 + double(s.maxZ()) + double(slope) * (m_nu + m_nv + 4.0));
+        while (m_levels.size() < size_t(kLevels) &&
+               (m_levels.back().nu > 1 || m_levels.back().nv > 1)) {
+            const Level& fine = m_levels.back();
+            Level coarse{(fine.nu + 1) / 2, (fine.nv + 1) / 2, {}};
+            coarse.data.assign(size_t(coarse.nu) * size_t(coarse.nv), kEmpty);
+            for (int u = 0; u < fine.nu; ++u)
+                for (int v = 0; v < fine.nv; ++v)
+                    merge(coarse.data[size_t(u / 2) * size_t(coarse.nv) + size_t(v / 2)],
+                          fine.data[size_t(u) * size_t(fine.nv) + size_t(v)]);
+            m_levels.push_back(std::move(coarse));
+        }
+    }
+
+    // How many columns from column k on (at most kLast − k + 1) hold no cell that can be
+    // limiting for texel segment `seg` (lowest point `lowest`); 0 when no coarse block proves
+    // it. `cross`: cells across the axis (clamp: -1 .. cross − 1).
+    int skipColumns(const SegmentHeights& seg, int k, int kLast, double lowest, int cross) const {
+        const Frame f{m_cls};
+        const bool forward = m_cls == kXPlus || m_cls == kYPlus;
+        const int u = storedAlong(f, seg.a0 + k);
+        const Limits limit = limits(seg);
+        const int top = std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(k + 4))));
+        for (int level = top; level >= 1; --level) {
+            const int size = 1 << level;
+            const int start = (u >> level) << level;
+            const int count = forward ? std::min(start + size, m_nu) - u : u - start + 1;
+            const int kEnd = std::min(k + count - 1, kLast);
+            int b0 = seg.b0 - 2 - kEnd, b1 = seg.b0 + 1 + kEnd;
+            if (!m_repeat) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
+            if (b0 > b1) return kEnd - k + 1;
+            const int u0 = forward ? u : u - (kEnd - k), u1 = forward ? u + (kEnd - k) : u;
+            if (below(level, u0, u1, b0, b1, k, kEnd, seg.b0, limit)) return kEnd - k + 1;
+        }
+        return 0;
+    }
+
+    // Calls test(bc) for the cells bc in [b0, b1] of column k that the bounds cannot dismiss,
+    // going down the pyramid from blocks about as wide as the range; true as soon as a test
+    // is. In repeat mode the range may wrap (several times for a wide wedge).
+    template <class Test>
+    bool anyCell(const SegmentHeights& seg, int k, int b0, int b1, double lowest,
+                 Test&& test) const {
+        const int u = storedAlong(Frame{m_cls}, seg.a0 + k);
+        const Limits limit = limits(seg);
+        auto visit = [&](auto& self, int level, int bv, int v0, int v1, int offset) -> bool {
+            const int lo = std::max(v0, bv << level);
+            const int hi = std::min(v1, ((bv + 1) << level) - 1);
+            if (lo > hi) return false;
+            const Level& l = m_levels[size_t(level)];
+            const Entry& e = l.data[size_t(u >> level) * size_t(l.nv) + size_t(bv)];
+            if (harmless(e, k, k, lo + offset + 0.5 - seg.b0, hi + offset + 0.5 - seg.b0, limit))
+                return false;
+            if (level == 0) return test(lo + offset);
+            return self(self, level - 1, 2 * bv, v0, v1, offset) ||
+                   self(self, level - 1, 2 * bv + 1, v0, v1, offset);
+        };
+        auto piece = [&](int v0, int v1, int offset) {
+            const int top =
+                std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(v1 - v0 + 1))) - 1);
+            for (int bv = v0 >> top; bv <= (v1 >> top); ++bv)
+                if (visit(visit, top, bv, v0, v1, offset)) return true;
+            return false;
+        };
+        if (!m_repeat) return piece(b0 + 1, b1 + 1, -1);
+        for (int b = b0; b <= b1;) {  // one period copy at a time
+            const int v = wrap(b, m_nv), end = std::min(b1, b + (m_nv - 1 - v));
+            if (piece(v, v + (end - b), b - v)) return true;
+            b = end + 1;
+        }
+        return false;
+    }
+
+private:
+    struct Entry {
+        float v, a, pmax, pmin;  // max V, max −pa, max −pb, min −pb
+    };
+    struct Level {
+        int nu, nv;
+        std::vector<Entry> data;
+    };
+    static constexpr int kLevels = 9;    // blocks up to 256²
+    static constexpr int kMaxReads = 16;  // per level tried
+    static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
+
+    static float roundUp(double v) {
+        const float f = float(v);
+        return double(f) < v ? std::nextafter(f, kInfinity) : f;
+    }
+    static int wrap(int v, int n) {
+        v %= n;
+        return v < 0 ? v + n : v;
+    }
+    static void merge(Entry& to, const Entry& from) {
+        to.v = std::max(to.v, from.v);
+        to.a = std::max(to.a, from.a);
+        to.pmax = std::max(to.pmax, from.pmax);
+        to.pmin = std::min(to.pmin, from.pmin);
+    }
+    // isLimiting's test points b0 − ½, b0, b0 + ½ of s_τ (plane − S is linear between them):
+    // a plane at or below S + eps/2 there (rounding included) is not above S by eps anywhere.
+    struct Limits {
+        double at[3];
+    };
+    static constexpr double kPoints[3] = {-0.5, 0.0, 0.5};
+    Limits limits(const SegmentHeights& seg) const {
+        const double slack = 0.5e-9 * (1.0 + std::abs(seg.mid)) - m_rounding;
+        return {{seg.lo + slack, seg.mid + slack, seg.hi + slack}};
+    }
+    // Whether the planes of the entry's cells, for cells in columns k .. kEnd with centre
+    // offsets δ in [d0, d1], stay at or below the limits at the three points.
+    static bool harmless(const Entry& e, int k, int kEnd, double d0, double d1,
+                         const Limits& limit) {
+        if (e.v == -kInfinity) return true;
+        const double base = double(e.v) + double(e.a) * double(e.a >= 0.0f ? kEnd : k);
+        for (int p = 0; p < 3; ++p) {
+            const double lo = d0 - kPoints[p], hi = d1 - kPoints[p];
+            const double across = std::max({lo * double(e.pmin), lo * double(e.pmax),
+                                            hi * double(e.pmin), hi * double(e.pmax)});
+            if (base + across > limit.at[p]) return false;
+        }
+        return true;
+    }
+    int storedAlong(const Frame& f, int a) const {
+        int ci, cj;
+        f.worldCell(a, 0, ci, cj);
+        const int along = m_cls < kYPlus ? ci : cj;
+        return m_repeat ? wrap(along, m_nu) : along + 1;
+    }
+    // Whether every block of `level` covering stored columns [u0, u1] (local columns k .. kEnd)
+    // and cells [b0, b1] across (wrapping in repeat mode) is at or below `limit`, each block
+    // bounded with its own offsets; false too when that takes more than kMaxReads reads.
+    bool below(int level, int u0, int u1, int b0, int b1, int k, int kEnd, int texelB,
+               const Limits& limit) const {
+        int parts[2][3];  // stored v range and the offset to local b
+        int count = 1;
+        bool whole = false;
+        if (m_repeat && b1 - b0 + 1 >= m_nv) {
+            parts[0][0] = 0, parts[0][1] = m_nv - 1, whole = true;
+        } else if (m_repeat) {
+            const int span = b1 - b0, v0 = wrap(b0, m_nv);
+            parts[0][0] = v0, parts[0][1] = std::min(v0 + span, m_nv - 1), parts[0][2] = b0 - v0;
+            if (v0 + span >= m_nv)
+                parts[1][0] = 0, parts[1][1] = v0 + span - m_nv, parts[1][2] = b0 - v0 + m_nv,
+                count = 2;
+        } else {
+            parts[0][0] = b0 + 1, parts[0][1] = b1 + 1, parts[0][2] = -1;
+        }
+        const Level& l = m_levels[size_t(level)];
+        const int bu0 = u0 >> level, bu1 = u1 >> level;
+        int reads = 0;
+        for (int p = 0; p < count; ++p) reads += (parts[p][1] >> level) - (parts[p][0] >> level) + 1;
+        if (reads * (bu1 - bu0 + 1) > kMaxReads) return false;
+        for (int p = 0; p < count; ++p)
+            for (int bv = parts[p][0] >> level; bv <= (parts[p][1] >> level); ++bv) {
+                // A wrapped whole period: a stored cell stands for several offsets.
+                const int lo = std::max(parts[p][0], bv << level);
+                const int hi = std::min(parts[p][1], ((bv + 1) << level) - 1);
+                const double d0 = whole ? b0 + 0.5 - texelB : lo + parts[p][2] + 0.5 - texelB;
+                const double d1 = whole ? b1 + 0.5 - texelB : hi + parts[p][2] + 0.5 - texelB;
+                for (int bu = bu0; bu <= bu1; ++bu)
+                    if (!harmless(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], k, kEnd, d0,
+                                  d1, limit))
+                        return false;
+            }
+        return true;
+    }
+
+    int m_cls;
+    bool m_repeat;
+    int m_nu, m_nv;
+    double m_rounding = 0.0;
+    std::vector<Level> m_levels;
+};
+
 struct Bounds {
     const CellBounds* alongY;  // x classes
     const CellBounds* alongX;  // y classes
+    const PlaneBounds* planes = nullptr;  // the texel's class; none: the reference scan
 };
 
 // Limiting for the ray set of the build: all rays, or (exterior set) exterior rays only, which
@@ -320,22 +541,38 @@ int scanTexel(const Surface& s, int cls, int i, int j, double tanPhi, int maxDis
     const int cross = crossCount(s, cls);
     const CellBounds* cells = bounds ? (cls < kYPlus ? bounds->alongY : bounds->alongX) : nullptr;
     std::array<LocalTriangle, 2> tris;
-    for (int k = firstColumn; k < maxDistance && k <= ahead; ++k) {
+    const PlaneBounds* planes = bounds ? bounds->planes : nullptr;
+    const int kLast = std::min(maxDistance - 1, ahead);
+    int nextTry = firstColumn;  // after a failed skip, none for a while (rough terrain)
+    for (int k = firstColumn; k <= kLast; ++k) {
+        if (planes && k >= nextTry) {
+            if (const int skip = planes->skipColumns(seg, k, kLast, lowest, cross)) {
+                k += skip - 1;
+                continue;
+            }
+            nextTry = k + 1 + k / 4;
+        }
         int b0 = seg.b0 - 2 - k, b1 = seg.b0 + 1 + k;
         if (clamp) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
         int line, unused;
         f.worldCell(seg.a0 + k, 0, line, unused);
         if (cls >= kYPlus) f.worldCell(seg.a0 + k, 0, unused, line);
-        if (cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi)) continue;  // whole column
-        for (int bc = b0; bc <= b1; ++bc) {
-            if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) continue;
+        if (!planes && cells && cells->dismiss(line, b0, b1, k, lowest, tanPhi))
+            continue;  // whole column (the plane bounds do better but keep this per cell)
+        auto limitingCell = [&](int bc) {
+            if (cells && cells->dismiss(line, bc, bc, k, lowest, tanPhi)) return false;
             int ci, cj;
             f.worldCell(seg.a0 + k, bc, ci, cj);
-            if (!cellTriangles(s, f, ci, cj, tris)) continue;
-            if (limitingFor(exterior, f, seg, tris[0], tanPhi) ||
-                limitingFor(exterior, f, seg, tris[1], tanPhi))
-                return k;
+            return cellTriangles(s, f, ci, cj, tris) &&
+                   (limitingFor(exterior, f, seg, tris[0], tanPhi) ||
+                    limitingFor(exterior, f, seg, tris[1], tanPhi));
+        };
+        if (planes) {
+            if (planes->anyCell(seg, k, b0, b1, lowest, limitingCell)) return k;
+            continue;
         }
+        for (int bc = b0; bc <= b1; ++bc)
+            if (limitingCell(bc)) return k;
     }
     return maxDistance;
 }
@@ -419,13 +656,15 @@ int safetyDistanceDirect(const Surface& s, int cls, int i, int j, double tanPhi,
     return scanTexel(s, cls, i, j, tanPhi, maxDistance, nullptr, &visibility);
 }
 
-DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
+namespace {
+
+// planes: prune with PlaneBounds (the builder), else the reference scan; same maps.
+DistanceMap buildDistances(const Surface& s, const BuildOptions& options, bool planes) {
     const int w = s.width(), h = s.height();
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
     int maxDistance = std::clamp(options.maxDistance, 1, 65535);
     if (s.edge() == EdgeMode::Repeat) maxDistance = std::min(maxDistance, std::max(w, h));
     const CellBounds alongY(s, true), alongX(s, false);
-    const Bounds bounds{&alongY, &alongX};
     std::unique_ptr<const ExteriorVisibility> exterior;
     if (options.exterior) exterior = std::make_unique<const ExteriorVisibility>(s);
     DistanceMap map{w, h, kClassCount, {}};
@@ -435,17 +674,22 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
         for (int c = 0; c < kClassCount; ++c)
             firstColumns[c] = firstSteepColumns(s, c < kYPlus ? alongY : alongX, c, tanPhi,
                                                 maxDistance);
-    parallelRanges(int64_t(kClassCount) * h, 1, [&](int64_t begin, int64_t end) {
-        for (int64_t row = begin; row < end; ++row) {
-            const int cls = int(row / h), j = int(row % h);
-            uint16_t* out = &map.r[size_t(row) * size_t(w)];
-            const uint16_t* start =
-                firstColumns[cls].empty() ? nullptr : &firstColumns[cls][size_t(j) * size_t(w)];
-            for (int i = 0; i < w; ++i)
-                out[i] = uint16_t(scanTexel(s, cls, i, j, tanPhi, maxDistance, &bounds,
-                                            exterior.get(), start ? start[i] : 0));
-        }
-    });
+    for (int cls = 0; cls < kClassCount; ++cls) {  // one class's plane bounds at a time (memory)
+        std::unique_ptr<const PlaneBounds> classPlanes;
+        if (planes) classPlanes = std::make_unique<const PlaneBounds>(s, cls);
+        const Bounds bounds{&alongY, &alongX, classPlanes.get()};
+        parallelRanges(h, 1, [&](int64_t begin, int64_t end) {
+            for (int64_t j = begin; j < end; ++j) {
+                uint16_t* out = &map.r[(size_t(cls) * size_t(h) + size_t(j)) * size_t(w)];
+                const uint16_t* start = firstColumns[cls].empty()
+                                            ? nullptr
+                                            : &firstColumns[cls][size_t(j) * size_t(w)];
+                for (int i = 0; i < w; ++i)
+                    out[i] = uint16_t(scanTexel(s, cls, i, int(j), tanPhi, maxDistance, &bounds,
+                                                exterior.get(), start ? start[i] : 0));
+            }
+        });
+    }
     if (!options.isotropic) return map;
     DistanceMap iso{w, h, 1, std::vector<uint16_t>(size_t(w) * size_t(h))};
     for (size_t k = 0; k < iso.r.size(); ++k) {
@@ -454,6 +698,16 @@ DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
         iso.r[k] = r;
     }
     return iso;
+}
+
+}  // namespace
+
+DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
+    return buildDistances(s, options, true);
+}
+
+DistanceMap buildDistanceMapReference(const Surface& s, const BuildOptions& options) {
+    return buildDistances(s, options, false);
 }
 
 // ---- Cylinder-cone ----
@@ -536,6 +790,93 @@ private:
     std::vector<float> m_lineMax;
 };
 
+// A max pyramid of the samples over aligned 2^L × 2^L blocks (world axes, shared by the four
+// classes): bounds hbar over a run of slope-scan columns at once, so the scan skips the runs
+// that cannot raise the slope (flat sea) instead of reading each column's window.
+class SampleMax {
+public:
+    explicit SampleMax(const Surface& s) {
+        m_repeat = s.edge() == EdgeMode::Repeat;
+        Level base{s.width(), s.height(), std::vector<float>(size_t(s.width()) * size_t(s.height()))};
+        for (int y = 0; y < s.height(); ++y)
+            for (int x = 0; x < s.width(); ++x)
+                base.data[size_t(y) * size_t(s.width()) + size_t(x)] = s.sampleZ(x, y);
+        m_levels.push_back(std::move(base));
+        while (m_levels.size() < size_t(kLevels) && (m_levels.back().w > 1 || m_levels.back().h > 1)) {
+            const Level& fine = m_levels.back();
+            Level coarse{(fine.w + 1) / 2, (fine.h + 1) / 2, {}};
+            coarse.data.assign(size_t(coarse.w) * size_t(coarse.h), -kInfinity);
+            for (int y = 0; y < fine.h; ++y)
+                for (int x = 0; x < fine.w; ++x) {
+                    float& to = coarse.data[size_t(y / 2) * size_t(coarse.w) + size_t(x / 2)];
+                    to = std::max(to, fine.data[size_t(y) * size_t(fine.w) + size_t(x)]);
+                }
+            m_levels.push_back(std::move(coarse));
+        }
+    }
+
+    int levels() const { return int(m_levels.size()); }
+
+    // An upper bound on the samples the window lookups of lines [l0, l1] (world index along
+    // the class axis, clamped or wrapped as WindowMax does) and cross samples [c0, c1] read;
+    // false when level `level` needs more than kMaxReads reads.
+    bool bound(bool xClass, int level, int l0, int l1, int c0, int c1, float& out) const {
+        const Level& base = m_levels[0];
+        const int lines = xClass ? base.w : base.h, length = xClass ? base.h : base.w;
+        int ranges[2][2][2];  // [axis: lines, cross][part][lo/hi]
+        int parts[2];
+        split(l0, l1, lines, ranges[0], parts[0]);
+        split(c0, c1, length, ranges[1], parts[1]);
+        if (parts[1] == 0 || parts[0] == 0) return out = -kInfinity, true;
+        int reads = 0;
+        for (int a = 0; a < parts[0]; ++a)
+            for (int b = 0; b < parts[1]; ++b)
+                reads += ((ranges[0][a][1] >> level) - (ranges[0][a][0] >> level) + 1) *
+                         ((ranges[1][b][1] >> level) - (ranges[1][b][0] >> level) + 1);
+        if (reads > kMaxReads) return false;
+        const Level& l = m_levels[size_t(level)];
+        float best = -kInfinity;
+        for (int a = 0; a < parts[0]; ++a)
+            for (int b = 0; b < parts[1]; ++b)
+                for (int p = ranges[0][a][0] >> level; p <= ranges[0][a][1] >> level; ++p)
+                    for (int q = ranges[1][b][0] >> level; q <= ranges[1][b][1] >> level; ++q) {
+                        const int x = xClass ? p : q, y = xClass ? q : p;
+                        best = std::max(best, l.data[size_t(y) * size_t(l.w) + size_t(x)]);
+                    }
+        out = best;
+        return true;
+    }
+
+private:
+    struct Level {
+        int w, h;
+        std::vector<float> data;
+    };
+    static constexpr int kLevels = 9;
+    static constexpr int kMaxReads = 16;
+
+    // [lo, hi] as stored ranges: clamped (clamp mode) or wrapped into at most two parts.
+    void split(int lo, int hi, int n, int (&out)[2][2], int& parts) const {
+        parts = 1;
+        if (!m_repeat) {
+            lo = std::clamp(lo, 0, n - 1), hi = std::clamp(hi, 0, n - 1);
+            out[0][0] = lo, out[0][1] = hi;
+            if (lo > hi) parts = 0;
+            return;
+        }
+        if (hi - lo + 1 >= n) {
+            out[0][0] = 0, out[0][1] = n - 1;
+            return;
+        }
+        const int span = hi - lo, v = ((lo % n) + n) % n;
+        out[0][0] = v, out[0][1] = std::min(v + span, n - 1);
+        if (v + span >= n) out[1][0] = 0, out[1][1] = v + span - n, parts = 2;
+    }
+
+    bool m_repeat;
+    std::vector<Level> m_levels;
+};
+
 // The line (world column for x classes, row for y classes) holding local abscissa a.
 int lineOf(const Frame& f, int a) {
     double X, Y;
@@ -583,8 +924,9 @@ float exteriorConeSlope(const Surface& s, const ExteriorVisibility& visibility, 
 }
 
 // Vertices that rays from s_τ can reach at local abscissa a0 + x lie in rows b0 ± (x + 2).
-ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, int j, int r,
-                    const ExteriorVisibility* exteriorSlope, double tanPhi, int& lookups) {
+ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax* peaks, int cls,
+                    int i, int j, int r, const ExteriorVisibility* exteriorSlope, double tanPhi,
+                    int& lookups) {
     const Frame f{cls};
     int a0, b0;
     f.texel(i, j, a0, b0);
@@ -609,8 +951,35 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, int cls, int i, 
         c.slope = slope == -kInfinity ? 0.0f : slope;
         return c;
     }
+    const bool forward = cls == kXPlus || cls == kYPlus;
+    int nextTry = r + 1;  // after a failed skip, none until past its run (rough terrain)
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
+        if (peaks && slope > -kInfinity && x >= nextTry) {
+            // Skip the run x .. x2 when no sample its windows read can raise the slope (the
+            // quotient is monotone in the sample, so the result is the scan's own).
+            const int line = lineOf(f, a0 + x);
+            const int top = std::min(peaks->levels() - 1, int(std::bit_width(unsigned(x + 4))));
+            int skipTo = 0;
+            for (int level = top; level >= std::max(1, top - 1) && !skipTo; --level) {
+                const int start = (line >> level) << level;
+                const int count = forward ? start + (1 << level) - line : line - start + 1;
+                const int x2 = std::min(x + count - 1, xEnd);
+                const int last = lineOf(f, a0 + x2);
+                float high;
+                if (!peaks->bound(cls < kYPlus, level, std::min(line, last), std::max(line, last),
+                                  b0 - x2 - 2, b0 + x2 + 2, high))
+                    continue;
+                const float rise = high - c.zc;
+                if ((rise >= 0.0f ? rise / float(x - r) : rise / float(x2 - r)) <= slope)
+                    skipTo = x2;
+            }
+            if (skipTo) {
+                x = skipTo;
+                continue;
+            }
+            nextTry = x + std::max(1, (x - r) / 2);
+        }
         slope = std::max(slope, (hbar(x) - c.zc) / float(x - r));
     }
     if (slope == -kInfinity) slope = 0.0f;
@@ -662,53 +1031,64 @@ float coneSlopeDirect(const Surface& s, int cls, int i, int j, int r, float zc, 
     return slope == -kInfinity ? 0.0f : slope;
 }
 
-CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
-                             const BuildOptions& options) {
+namespace {
+
+// pruned: skip slope-scan runs by SampleMax (the builder), else the reference scan; same maps.
+// The texels are written in place (the isotropic map takes the classes' maxima as they come),
+// so the build holds the map plus one N-buffer orientation and the pyramids.
+CylinderConeMap buildCones(const Surface& s, const DistanceMap& radii, const BuildOptions& options,
+                           bool pruned) {
     const int w = s.width(), h = s.height();
     const size_t plane = size_t(w) * size_t(h);
     const int classes = options.isotropic ? 1 : kClassCount;
     CylinderConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
-    // All four classes are needed even for the isotropic map (its plane bounds all of them).
-    std::vector<ConeTexel> perClass(size_t(kClassCount) * plane);
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
     std::unique_ptr<const ExteriorVisibility> exterior;
     if (options.exterior && options.exteriorSlope)
         exterior = std::make_unique<const ExteriorVisibility>(s);
+    std::unique_ptr<const SampleMax> peaks;
+    if (pruned) peaks = std::make_unique<const SampleMax>(s);
+    // All four classes are needed even for the isotropic map (its plane bounds all of them).
     for (int axis = 0; axis < 2; ++axis) {  // one N-buffer orientation at a time (memory)
         const WindowMax windows(s, axis == 0);
-        parallelRanges(int64_t(2) * h, 1, [&](int64_t begin, int64_t end) {
+        parallelRanges(h, 1, [&](int64_t begin, int64_t end) {
             int lookups = 0;
-            for (int64_t row = begin; row < end; ++row) {
-                const int cls = 2 * axis + int(row / h), j = int(row % h);
-                for (int i = 0; i < w; ++i)
-                    perClass[size_t(cls) * plane + size_t(j) * size_t(w) + size_t(i)] =
-                        coneTexel(s, windows, cls, i, j, radii.at(cls, i, j),
-                                  exterior.get(), tanPhi, lookups);
-            }
+            for (int64_t j = begin; j < end; ++j)
+                for (int cls = 2 * axis; cls < 2 * axis + 2; ++cls)
+                    for (int i = 0; i < w; ++i) {
+                        const ConeTexel t = coneTexel(s, windows, peaks.get(), cls, i, int(j),
+                                                      radii.at(cls, i, int(j)), exterior.get(),
+                                                      tanPhi, lookups);
+                        const size_t k = size_t(j) * size_t(w) + size_t(i);
+                        if (classes == kClassCount) {
+                            map.texels[size_t(cls) * plane + k] = t;
+                        } else if (cls == 0) {
+                            map.texels[k] = t;  // same r (isotropic) in every class
+                        } else {
+                            ConeTexel& o = map.texels[k];
+                            o.zc = std::max(o.zc, t.zc);
+                            o.slope = std::max(o.slope, t.slope);
+                        }
+                    }
         });
     }
     const float maxZ = s.maxZ();
-    parallelRanges(int64_t(plane), 4096, [&](int64_t begin, int64_t end) {
-        for (int64_t k = begin; k < end; ++k) {
-            if (classes == kClassCount) {
-                for (int c = 0; c < kClassCount; ++c) {
-                    ConeTexel t = perClass[size_t(c) * plane + size_t(k)];
-                    finishTexel(t, maxZ);
-                    map.texels[size_t(c) * plane + size_t(k)] = t;
-                }
-                continue;
-            }
-            ConeTexel t = perClass[size_t(k)];  // same r (isotropic) in every class
-            for (int c = 1; c < kClassCount; ++c) {
-                const ConeTexel& o = perClass[size_t(c) * plane + size_t(k)];
-                t.zc = std::max(t.zc, o.zc);
-                t.slope = std::max(t.slope, o.slope);
-            }
-            finishTexel(t, maxZ);
-            map.texels[size_t(k)] = t;
-        }
+    parallelRanges(int64_t(map.texels.size()), 4096, [&](int64_t begin, int64_t end) {
+        for (int64_t k = begin; k < end; ++k) finishTexel(map.texels[size_t(k)], maxZ);
     });
     return map;
+}
+
+}  // namespace
+
+CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
+                             const BuildOptions& options) {
+    return buildCones(s, radii, options, true);
+}
+
+CylinderConeMap buildConeMapReference(const Surface& s, const DistanceMap& radii,
+                                      const BuildOptions& options) {
+    return buildCones(s, radii, options, false);
 }
 
 // ---- On disk ----

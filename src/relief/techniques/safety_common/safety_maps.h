@@ -94,6 +94,13 @@ CylinderConeMap buildConeMap(const Surface& surface, const DistanceMap& radii,
 
 // ---- Single-texel pieces, exposed for the tests ----
 
+// buildDistanceMap without its plane-bound pruning (the scan it replaced): the same map, slower
+// where distances are large; the tests' reference.
+DistanceMap buildDistanceMapReference(const Surface& surface, const BuildOptions& options);
+// buildConeMap without skipping slope-scan runs: the same map; the tests' reference.
+CylinderConeMap buildConeMapReference(const Surface& surface, const DistanceMap& radii,
+                                      const BuildOptions& options);
+
 // The local frame of one class.
 struct Frame {
     int cls;
