@@ -28,6 +28,10 @@ inline constexpr ParamSpec kViewDependent{
 inline constexpr ParamSpec kPositiveDistance{
     "positive-distance", 0, 0, 1, true,
     "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)", ParamRole::Variant};
+inline constexpr ParamSpec kPhiOutside{
+    "phi-outside", 0, 0, 1, true,
+    "1 = rays outside phi-max use the maps anyway (the paper's rendering; approximate: they can "
+    "step past a hit); 0 = they take the exact walk", ParamRole::Variant};
 inline constexpr ParamSpec kExterior{
     "exterior", 0, 0, 1, true,
     "1 = maps for exterior rays only (§6.2, viewpoint outside the box; clamp mode): longer "
@@ -41,12 +45,12 @@ inline constexpr ParamSpec kExteriorSlope{
 
 inline constexpr ParamSpec kSafetyParams[] = {
     param::kMaxSteps,      param::kPhiMax,           param::kIsotropic,
-    param::kViewDependent, param::kPositiveDistance, param::kExterior,
+    param::kViewDependent, param::kPositiveDistance, param::kExterior, param::kPhiOutside,
 };
 // safety-cc adds the choice of cone slope.
 inline constexpr ParamSpec kSafetyCcParamList[] = {
     param::kMaxSteps,         param::kPhiMax,   param::kIsotropic,     param::kViewDependent,
-    param::kPositiveDistance, param::kExterior, param::kExteriorSlope,
+    param::kPositiveDistance, param::kExterior, param::kExteriorSlope, param::kPhiOutside,
 };
 
 BuildOptions buildOptionsFrom(const ParamValues& params);
