@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
     g++ cmake ninja-build pkg-config python3
     libembree-dev libtbb-dev libglm-dev libstb-dev libpng-dev libjpeg-dev libopenexr-dev
-    libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+    libcli11-dev libfmt-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libtinygltf-dev
     libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
     libglfw3-dev libimgui-dev xvfb xauth
     chromium

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -120,6 +121,11 @@ TEST(BenchCommand, EveryPresetSmokes) {
         const int status = std::system(command.c_str());
         EXPECT_EQ(WEXITSTATUS(status), 0) << command << "\n" << readText(out / (name + ".log"));
         EXPECT_TRUE(fs::exists(dir / "report.md")) << name;
+        if (fs::exists(dir / "claims.json")) {  // a paper's page: its claims, its parts' rows below it
+            std::ifstream in(dir / "claims.json");
+            EXPECT_FALSE(nlohmann::json::parse(in).empty()) << name;
+            continue;
+        }
         std::ifstream in(dir / "results.json");
         EXPECT_FALSE(nlohmann::json::parse(in).at("rows").empty()) << name;
         ++count;
@@ -286,11 +292,76 @@ TEST(BenchCommand, ScalingStudyPlotsStepsAgainstMapSize) {
     fs::remove(out.string() + ".log");
 }
 
+// A paper's page (--preset qdm): every claim judged from its part's rows. The test recomputes
+// each measured claim from the part's results.json (per-view ratios on the same map, view and
+// cap, geometric mean; or the mean value) and finds the page's number; verdicts follow the ranges.
+TEST(BenchCommand, PaperPageJudgesClaimsFromItsParts) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_paper_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    ASSERT_EQ(runBench("--preset qdm --smoke", out), 0) << readText(out.string() + ".log");
+    const std::string page = readText(out / "report.md");
+    EXPECT_NE(page.find("## Claims"), std::string::npos);
+    EXPECT_NE(page.find("(qdm-claims/report.md)"), std::string::npos);
+    EXPECT_NE(page.find("GPU: not measured"), std::string::npos);
+    std::ifstream in(out / "claims.json");
+    const nlohmann::json claims = nlohmann::json::parse(in);
+    ASSERT_GE(claims.size(), 10u);
+    const nlohmann::json rows = resultRows(out / "qdm-claims");
+    auto largestCap = [&](const std::string& technique) {
+        int cap = 0;
+        for (const auto& r : rows)
+            if (r.at("technique") == technique) cap = std::max(cap, r.at("cap").get<int>());
+        return cap;
+    };
+    // Fig. 10 below 45°: steps of the paper's QDM over Dummer's cones at the largest cap.
+    double logSum = 0;
+    int views = 0;
+    for (const auto& n : rows) {
+        if (n.at("technique") != "qdm:variant=1" || n.at("cap") != largestCap("qdm:variant=1") ||
+            n.at("elevation").get<double>() > 45.0)
+            continue;
+        for (const auto& d : rows)
+            if (d.at("technique") == "cone:variant=1" && d.at("cap") == largestCap("cone:variant=1") &&
+                d.at("map") == n.at("map") && d.at("elevation") == n.at("elevation")) {
+                logSum += std::log(n.at("steps_mean").get<double>() / d.at("steps_mean").get<double>());
+                ++views;
+            }
+    }
+    ASSERT_GT(views, 0);
+    bool seenSteps = false, seenPast = false;
+    for (const auto& c : claims) {
+        const std::string verdict = c.at("verdict");
+        EXPECT_TRUE(verdict == "agrees" || verdict == "disagrees" || verdict == "reported" || verdict == "not measured")
+            << verdict;
+        if (c.at("source") == "Fig. 10" && std::string(c.at("claim")).rfind("below 45°", 0) == 0) {
+            seenSteps = true;
+            EXPECT_NEAR(c.at("paper_variant").get<double>(), std::exp(logSum / views), 1e-9);
+            EXPECT_EQ(verdict, c.at("paper_variant").get<double>() <= 1.0 ? "agrees" : "disagrees");
+        }
+        if (std::string(c.at("claim")).find("do not enter the surface") != std::string::npos) {
+            seenPast = true;
+            double sum = 0;
+            int n = 0;
+            for (const auto& r : rows)
+                if (r.at("technique") == "qdm:variant=1" && r.at("cap") == largestCap("qdm:variant=1")) {
+                    sum += 100.0 * r.at("past_first_hit_rate").get<double>();
+                    ++n;
+                }
+            EXPECT_NEAR(c.at("paper_variant").get<double>(), sum / n, 1e-9);
+            EXPECT_EQ(c.at("safe_variant").get<double>(), 0.0) << "the safe qdm never steps past a hit";
+        }
+        if (c.at("source") == "Table 1") EXPECT_EQ(verdict, "not measured") << "timings are off in this run";
+    }
+    EXPECT_TRUE(seenSteps && seenPast);
+    fs::remove_all(out);
+}
+
 TEST(BenchCommand, RejectsBadOptions) {
     const fs::path out = fs::temp_directory_path() / ("relief_bench_bad_" + std::to_string(::getpid()));
     fs::create_directories(out);
     for (const char* args : {"--preset nope", "--caps 0,4", "--size 100x7", "-t nope", "--elevations a,b",
-                             "-t cone:variant=7", "-t cone:nope=1", "-t cone --visibility exterior",
+                             "-t cone:variant=7", "-t cone:nope=1", "--preset qdm -t cone",
+                             "--preset curves --heightfields gen:fbm:64x64", "--quick --smoke", "-t cone --visibility exterior",
                              "-t cone --phi-max 45", "-t cone --param nope=1", "--edge wrap", "--param x"}) {
         const std::string command = std::string(RELIEF_CLI_PATH) + " bench " + args + " --out-dir " +
                                     (out / "run").string() + " > " + (out / "bad.log").string() + " 2>&1";

@@ -24,6 +24,7 @@ LEVEL = {
     "techniques": 2,
     # curves/ sits at render level until it is split into techniques/curves, sphere/, render/.
     "render": 3, "gl": 3, "report": 3, "embree": 3, "curves": 3,
+    "preview": 3,  # preview/: meshes and the GL mesh preview (render + gl), below cli and viewer
     "bench": 4, "viewer": 4,
     "cli": 5, "python": 5,  # python/: the Python module, a program beside the CLI
     "tests": 6,  # tests/, fuzz/, every *_test.cpp, tests/support/

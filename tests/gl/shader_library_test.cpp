@@ -20,16 +20,14 @@
 //   (hit rates within 1%, mean |Δt| against the CPU tracer <= 0.05 texel).
 #include <relief/gl/egl_context.h>
 #include <relief/gl/program.h>
+#include <relief/gl/shader_library.h>
 #include <relief/techniques/registry.h>
 #include <support/gl_test_support.h>
 #include <support/shader_rows.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
-#include <sstream>
 
 namespace relief {
 namespace {
@@ -38,45 +36,11 @@ using gl::GlFramebuffer;
 using gl::GlProgram;
 using gl::GlTexture;
 using gl::GlVertexArray;
+using gl::LibraryParams;
 
 constexpr float kFloatSlack = 2e-3f;
 constexpr int kImageSize = 72;
 const vec3 kLightTangent = glm::normalize(vec3(0.5f, 0.3f, 0.6f));
-
-std::string readLibrary(std::string_view file) {
-    std::ifstream in(std::string(RELIEF_SHADER_LIBRARY_DIR) + "/" + std::string(file));
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// common.glsl, then `file` after the files its `// requires:` lines name, each once.
-std::string libraryText(std::string_view file) {
-    std::vector<std::string> ordered;
-    auto add = [&](auto&& self, const std::string& name) -> void {
-        if (std::find(ordered.begin(), ordered.end(), name) != ordered.end()) return;
-        const std::string text = readLibrary(name);
-        for (size_t at = text.find("\n// requires: "); at != std::string::npos;
-             at = text.find("\n// requires: ", at + 1)) {
-            const size_t begin = at + 14;
-            self(self, text.substr(begin, text.find('\n', begin) - begin));
-        }
-        ordered.push_back(name);
-    };
-    add(add, "common.glsl");
-    add(add, std::string(file));
-    std::string all;
-    for (const std::string& name : ordered) all += readLibrary(name) + "\n";
-    return all;
-}
-
-// The library's parameters for a row (its resolved parameters and the maps' own).
-struct LibraryParams {
-    float midLevel = 1.0f;
-    int maxSteps = 0, binarySteps = 0, bits = 32, sqrtRatio = 0, ascend = 1;
-    float coneMax = 1.0f, maxDistance = 0.0f, phiMax = 90.0f;
-    int exterior = 0, viewDependent = 0, positiveDistance = 0, isotropic = 0, variant = 0;
-};
 
 // reliefTexelDirection and reliefViewRay (common.glsl) in C++.
 vec3 texelDirection(vec3 t, const Surface& s) {
@@ -166,51 +130,8 @@ void main() {{
     outHitUv = vec4(hit.uv, hit.depth, 0.0);
 }}
 )",
-                       libraryText(info.shaderFile), samplers, info.shaderFunction, arguments,
+                       *gl::shaderLibraryText(info.shaderFile), samplers, info.shaderFunction, arguments,
                        info.shaderFunction, arguments);
-}
-
-// A pyramid's levels "<stem><k>", "<stem><k+1>", ... as the mip levels 0, 1, ... of one float
-// texture, level 0 padded to powers of two so that every GL mip level holds its pyramid level.
-GlTexture mipChainTexture(const TechniqueMaps& maps, std::string_view first) {
-    const size_t digits = first.find_last_not_of("0123456789") + 1;
-    const std::string stem(first.substr(0, digits));
-    std::vector<const MapArray*> levels;
-    for (const MapArray* a;
-         (a = maps.find(stem + std::to_string(std::stoi(std::string(first.substr(digits))) +
-                                              int(levels.size()))));)
-        levels.push_back(a);
-    EXPECT_FALSE(levels.empty()) << first;
-    if (levels.empty()) return GlTexture();
-    static const GLenum internal[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
-    static const GLenum format[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
-    const int channels = levels[0]->channels;
-    auto padded = [](int n) { return 1 << std::bit_width(unsigned(n - 1)); };
-    GLuint id = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &id);
-    glTextureStorage2D(id, GLsizei(levels.size()), internal[channels - 1], padded(levels[0]->width),
-                       padded(levels[0]->height));
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (size_t l = 0; l < levels.size(); ++l)
-        glTextureSubImage2D(id, GLint(l), 0, 0, levels[l]->width, levels[l]->height,
-                            format[channels - 1], GL_FLOAT, levels[l]->data.data());
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
-    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTextureParameteri(id, GL_TEXTURE_MAX_LEVEL, GLint(levels.size()) - 1);
-    return GlTexture(id);
-}
-
-GlTexture floatTexture(int width, int height, int channels, const float* data) {
-    static const GLenum internal[] = {GL_R32F, GL_RG32F, GL_RGB32F, GL_RGBA32F};
-    static const GLenum format[] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
-    GLuint id = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &id);
-    glTextureStorage2D(id, 1, internal[channels - 1], width, height);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTextureSubImage2D(id, 0, 0, 0, width, height, format[channels - 1], GL_FLOAT, data);
-    glTextureParameteri(id, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(id, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    return GlTexture(id);
 }
 
 glm::mat4 clipFromWorld(const View& view) {
@@ -230,28 +151,16 @@ struct Fragment {
 std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& info,
                                const Surface& surface, const TechniqueMaps& maps,
                                const LibraryParams& lp, const View& view) {
-    std::vector<GlTexture> textures;
-    const Heightfield& hf = surface.heightfield();
-    for (const ShaderSampler& s : info.shaderSamplers) {
-        if (s.array.empty()) {
-            textures.push_back(floatTexture(hf.width, hf.height, 1, hf.samples.data()));
-        } else if (s.mipChain) {
-            textures.push_back(mipChainTexture(maps, s.array));
-        } else {
-            const MapArray* a = maps.find(std::string(s.array));
-            if (!a && !s.fallback.empty()) a = maps.find(std::string(s.fallback));
-            EXPECT_TRUE(a) << s.array;
-            if (!a) return {};
-            textures.push_back(floatTexture(a->width, a->height, a->channels, a->data.data()));
-        }
-    }
+    auto textures = gl::libraryTextures(info, surface.heightfield(), maps);
+    EXPECT_TRUE(textures) << (textures ? "" : textures.error().message);
+    if (!textures) return {};
     GLuint id = 0;
     glCreateFramebuffers(1, &id);
     GlFramebuffer framebuffer(id);
     std::vector<GlTexture> targets;
     GLenum buffers[4];
     for (int k = 0; k < 4; ++k) {
-        targets.push_back(floatTexture(kImageSize, kImageSize, 4, nullptr));
+        targets.push_back(gl::floatTexture(kImageSize, kImageSize, 4, nullptr));
         glNamedFramebufferTexture(id, GL_COLOR_ATTACHMENT0 + k, targets.back().id(), 0);
         buffers[k] = GL_COLOR_ATTACHMENT0 + k;
     }
@@ -278,28 +187,10 @@ std::vector<Fragment> drawQuad(const GlProgram& program, const TechniqueInfo& in
     glUniform3fv(uniform("quadV"), 1, &view.axisV.x);
     glUniform3fv(uniform("eye"), 1, &view.eye.x);
     glUniform3fv(uniform("lightTangent"), 1, &kLightTangent.x);
-    glUniform2f(uniform("params.mapSize"), float(surface.width()), float(surface.height()));
-    glUniform1f(uniform("params.depth"), surface.depth());
-    glUniform1f(uniform("params.midLevel"), view.midLevel);
-    glUniform1i(uniform("params.edge"), surface.edge() == EdgeMode::Clamp ? 0 : 1);
-    glUniform1i(uniform("params.maxSteps"), lp.maxSteps);
-    glUniform1i(uniform("params.binarySteps"), lp.binarySteps);
-    glUniform1i(uniform("params.bits"), lp.bits);
-    glUniform1i(uniform("params.sqrtRatio"), lp.sqrtRatio);
-    glUniform1f(uniform("params.coneMax"), lp.coneMax);
-    glUniform1i(uniform("params.ascend"), lp.ascend);
-    glUniform1f(uniform("params.maxZ"), surface.maxZ());
-    glUniform1f(uniform("params.maxDistance"), lp.maxDistance);
-    glUniform1f(uniform("params.phiMax"), lp.phiMax);
-    glUniform1i(uniform("params.exterior"), lp.exterior);
-    glUniform1i(uniform("params.viewDependent"), lp.viewDependent);
-    glUniform1i(uniform("params.positiveDistance"), lp.positiveDistance);
-    glUniform1i(uniform("params.isotropic"), lp.isotropic);
-    glUniform1i(uniform("params.variant"), lp.variant);
-    for (size_t k = 0; k < textures.size(); ++k) {
-        glBindTextureUnit(GLuint(k), textures[k].id());
-        glUniform1i(uniform(std::string(info.shaderSamplers[k].name).c_str()), GLint(k));
-    }
+    LibraryParams at = lp;
+    at.midLevel = view.midLevel;
+    gl::setLibraryUniforms(p, "params", surface, at);
+    gl::bindLibraryTextures(p, info, *textures);
 
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer.id());
     glViewport(0, 0, kImageSize, kImageSize);
@@ -352,26 +243,7 @@ void checkScene(const TechniqueInfo& info, std::shared_ptr<const Surface> surfac
     }
     const TechniqueMaps empty;
     const TechniqueMaps& maps = file.techniques.empty() ? empty : file.techniques.front();
-    LibraryParams lp;
-    if (const ParamSpec* cap = paramWithRole(info, ParamRole::IterationCap))
-        lp.maxSteps = params->getInt(cap->name);
-    if (params->has("binary-steps")) lp.binarySteps = params->getInt("binary-steps");
-    if (params->has("ascend")) lp.ascend = params->getInt("ascend");
-    auto mapParam = [&](const char* key, double fallback) {
-        auto found = maps.parameters.find(key);
-        return found == maps.parameters.end() ? fallback : std::stod(found->second);
-    };
-    lp.bits = int(mapParam("bits", 32));
-    lp.sqrtRatio = int(mapParam("sqrt", 0));
-    lp.coneMax = float(mapParam("cone-max", 1.0));
-    lp.maxDistance = info.name == "qdm" ? float(mapParam("max-distance", 0.0)) : 0.0f;
-    lp.phiMax = float(mapParam("phi-max", 90.0));
-    lp.exterior = int(mapParam("exterior", 0));
-    lp.isotropic = int(mapParam("isotropic", 0));
-    // The map's variant picks the tracer (qdm: 1 = the paper's map and Algorithm 1).
-    lp.variant = info.name == "qdm" ? int(mapParam("variant", 0)) : 0;
-    if (params->has("view-dependent")) lp.viewDependent = params->getInt("view-dependent");
-    if (params->has("positive-distance")) lp.positiveDistance = params->getInt("positive-distance");
+    const LibraryParams lp = gl::libraryParams(info, *params, maps);
 
     auto cpu =
         createTracer(info.name, surface, overrides, file.techniques.empty() ? nullptr : &file);

@@ -19,7 +19,9 @@ TEST(GlShaders, CommonFilesAreEmbedded) {
                                   "common_cell_intersect.glsl", "common_camera.glsl",
                                   "main_rays.glsl", "main_camera.glsl", "mesh_vertex.glsl",
                                   "mesh_fragment.glsl", "surface/cell_cursor.glsl",
-                                  "surface/cell_walk.glsl"})
+                                  "surface/cell_walk.glsl", "preview_vertex.glsl",
+                                  "preview_fragment.glsl", "library/common.glsl",
+                                  "library/cone.glsl"})
         EXPECT_FALSE(shaderSource(path).empty()) << path;
     EXPECT_TRUE(shaderSource("no_such_file.glsl").empty());
     EXPECT_NE(shaderSource("exact/exact.glsl").find("Hit trace(Ray ray)"), std::string_view::npos);
@@ -40,6 +42,7 @@ TEST(GlShaders, RegistryRowsAndTechniqueShadersMatch) {
     for (const ShaderFile& file : shaderFiles()) {
         if (file.path.find('/') == std::string_view::npos) continue;  // common or entry point
         if (file.path.starts_with("surface/")) continue;  // the surface's twins, shared by rows
+        if (file.path.starts_with("library/")) continue;  // the engine library: its own tests
         bool used = false;
         for (const TechniqueInfo& info : techniques())
             used = used || info.glsl == file.path ||

@@ -3,11 +3,14 @@
 #include <relief/render/camera.h>
 #include <relief/techniques/registry.h>
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <type_traits>
 
 namespace relief::bench {
@@ -108,6 +111,9 @@ BenchConfig fromStudy(const StudySpec& s) {
     c.compare = std::string(s.compare);
     c.paperNotes = std::string(s.paperNotes);
     c.imageMethod = s.imageMethod;
+    c.parts = strings(s.parts);
+    c.claims = s.claims;
+    c.paperFile = std::string(s.paperFile);
     for (const PaperRatioSpec& r : s.paperRatios)
         c.paperRatios.push_back({std::string(r.what), std::string(r.paper), std::string(r.numeratorTechnique),
                                  std::string(r.numeratorMap), std::string(r.denominatorTechnique),
@@ -183,6 +189,44 @@ std::string smokeMap(const std::string& map) {
     if (map.rfind("gen:", 0) != 0 || hasWindow(map)) return map;  // a window needs its size
     std::vector<std::string> parts = split(map, ':');
     return "gen:" + parts[1] + ":64x64";
+}
+
+constexpr int kQuickMapSize = 256;
+
+// gen:NAME:WxH[:seed] → at most 256² (aspect kept); a window @crop=/@centre=X,Y,W,H → at most
+// 256² about the same centre.
+std::string quickMap(const std::string& map) {
+    auto shrink = [](int& w, int& h) {
+        const int longest = std::max(w, h);
+        if (longest <= kQuickMapSize) return false;
+        w = std::max(2, int(int64_t(w) * kQuickMapSize / longest));
+        h = std::max(2, int(int64_t(h) * kQuickMapSize / longest));
+        return true;
+    };
+    for (const char* tag : {"@crop=", "@centre="}) {
+        const size_t at = map.find(tag);
+        if (at == std::string::npos) continue;
+        const std::vector<std::string> v = split(map.substr(at + std::strlen(tag)), ',');
+        int x = 0, y = 0, w = 0, h = 0;
+        if (v.size() != 4 || std::sscanf(v[0].c_str(), "%d", &x) != 1 || std::sscanf(v[1].c_str(), "%d", &y) != 1 ||
+            std::sscanf(v[2].c_str(), "%d", &w) != 1 || std::sscanf(v[3].c_str(), "%d", &h) != 1)
+            return map;  // {N} or malformed: the loader reports it
+        const int w0 = w, h0 = h;
+        if (!shrink(w, h)) return map;
+        if (std::string(tag) == "@crop=") {  // keep the window's centre
+            x += (w0 - w) / 2;
+            y += (h0 - h) / 2;
+        }
+        return fmt::format("{}{}{},{},{},{}", map.substr(0, at), tag, x, y, w, h);
+    }
+    if (map.rfind("gen:", 0) != 0) return map;
+    std::vector<std::string> parts = split(map, ':');
+    int w = 0, h = 0;
+    if (parts.size() < 3 || !parseImageSize(parts[2], w, h) || !shrink(w, h)) return map;
+    parts[2] = fmt::format("{}x{}", w, h);
+    std::string out = parts[0];
+    for (size_t k = 1; k < parts.size(); ++k) out += ":" + parts[k];
+    return out;
 }
 
 }  // namespace
@@ -299,6 +343,20 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
         c.repeats = 1;
         c.glFrames = 1;
     }
+    if (o.quick && o.smoke) return makeError(ErrorKind::BadArgument, "--quick and --smoke: choose one");
+    if (o.quick) {
+        for (std::string& m : c.maps) m = quickMap(m);
+        if (!c.sizes.empty()) {
+            std::vector<int> sizes;
+            for (int n : c.sizes)
+                if (n <= 2 * kQuickMapSize) sizes.push_back(n);
+            c.sizes = sizes.empty() ? std::vector<int>{*std::min_element(c.sizes.begin(), c.sizes.end())} : sizes;
+        }
+        c.size = {std::min(c.size.x, 160), std::min(c.size.y, 128)};
+        c.repeats = 1;
+        c.glFrames = 2;
+    }
+    if (c.kind == StudyKind::Paper) return {};  // its parts name their own techniques
     if (c.techniques.empty()) return makeError(ErrorKind::BadArgument, "no techniques to run");
     return {};
 }

@@ -48,6 +48,10 @@ struct BenchConfig {
     // with rtcIntersect1 and rtcIntersect16 on the same rays as the triangles; memory per texel of
     // both; the report's "Embree user geometry" table.
     bool userGeometry = false;
+    // StudyKind::Paper: the studies it runs, in order, and the claims it judges from their rows.
+    std::vector<std::string> parts;
+    std::span<const ClaimSpec> claims;
+    std::string paperFile;
 };
 
 // Command-line overrides of a preset; empty strings / unset values keep the preset's.
@@ -56,6 +60,9 @@ struct BenchOverrides {
     std::optional<float> depth, depthRatio, azimuth, distance;
     int repeats = 0;
     bool smoke = false;  // cut the run to seconds: maps 64², one view, 32×32 rays, one repeat
+    // cut the run to about a minute with every view kept: generated maps and windows to at most
+    // 256², map sizes to at most 512, 160×128 rays, one repeat
+    bool quick = false;
 };
 
 struct PresetEntry {

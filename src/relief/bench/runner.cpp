@@ -1,5 +1,6 @@
 #include <relief/bench/runner.h>
 
+#include <relief/bench/paper_page.h>
 #include <relief/bench/peers.h>
 #include <relief/bench/report.h>
 #include <relief/bench/timing.h>
@@ -184,6 +185,8 @@ class Runner {
 public:
     Runner(const RunOptions& o, BenchConfig config, std::vector<RowSpec> rows, std::vector<Overrides> overrides)
         : m_o(o), m_config(std::move(config)), m_specs(std::move(rows)), m_overrides(std::move(overrides)) {}
+
+    const std::vector<BenchRow>& rows() const { return m_rows; }
 
     void run() {
         std::error_code ec;
@@ -539,6 +542,72 @@ private:
     int64_t m_mapSamples = 0;
 };
 
+// A paper's page (StudyKind::Paper): each part run as its own preset into <out-dir>/<part>/,
+// then the claims judged from their rows (bench/paper_page.h) and the page written.
+void runPaper(const RunOptions& o, const BenchConfig& paper) {
+    const BenchOverrides& v = o.overrides;
+    if (!v.techniques.empty() || !v.maps.empty() || !v.sizes.empty() || !v.elevations.empty() || !v.caps.empty() ||
+        !v.edge.empty() || v.depth || v.depthRatio || v.azimuth || v.distance || !o.mapsPath.empty() ||
+        !o.params.empty() || !o.visibility.empty() || o.phiMax)
+        throw Failure{makeError(ErrorKind::BadArgument,
+                                "--preset {} is a paper's page: it runs its parts ({}) as they are; to change "
+                                "rows, maps or views run a part with --preset PART",
+                                o.preset, fmt::join(paper.parts, ", "))};
+    const auto loadBefore = loadAverage();
+    PartRows parts;
+    std::map<std::string, std::string> links, descriptions;
+    for (const PresetEntry& p : presetList()) descriptions[p.name] = p.description;
+    for (size_t k = 0; k < paper.parts.size(); ++k) {
+        const std::string& part = paper.parts[k];
+        RunOptions sub = o;
+        sub.preset = part;
+        sub.outDir = (fs::path(o.outDir) / part).string();
+        sub.markdownPath.clear();
+        BenchConfig config = orFail(presetConfig(part));
+        if (config.kind == StudyKind::Paper)
+            throw Failure{makeError(ErrorKind::Runtime, "paper {}: its part {} is a paper itself", o.preset, part)};
+        orFail(applyOverrides(config, sub.overrides));
+        if (!Progress::quiet())
+            std::cerr << fmt::format("{}: part {}/{}: {}\n", o.preset, k + 1, paper.parts.size(), part);
+        std::vector<RowSpec> rows;
+        for (const std::string& t : config.techniques) rows.push_back(orFail(parseRowSpec(t)));
+        std::vector<Overrides> overrides = orFail(globalOverrides(sub, rows));
+        Runner runner(sub, std::move(config), std::move(rows), std::move(overrides));
+        runner.run();
+        parts[part] = runner.rows();
+    }
+    const bool timings = !o.deterministic;
+    const std::vector<ClaimResult> claims = judgeClaims(paper, parts, timings);
+    BenchMeta meta{o.preset, cpuModelName(), "", timings ? todayUtc() : std::string("-"), "",
+                   commandLine(o), "", "", ThreadLimit::current(), timings};
+    for (const auto& [part, rows] : parts)
+        for (const BenchRow& r : rows)
+            if (r.backend == "gl") meta.glDevice = "see the parts' reports";
+    if (timings) {
+        meta.loadBefore = loadBefore;
+        meta.loadAfter = loadAverage();
+    }
+    auto pageWithLinksFrom = [&](const fs::path& pageFolder) {
+        std::string prefix = fs::relative(fs::absolute(o.outDir), fs::absolute(pageFolder)).generic_string();
+        prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
+        for (const std::string& part : paper.parts) links[part] = prefix + part + "/report.md";
+        return paperMarkdown(paper, claims, meta, links, descriptions);
+    };
+    OutputSet outputs;
+    orFail(outputs.addText(o.outDir + "/report.md", pageWithLinksFrom(o.outDir)));
+    orFail(outputs.addText(o.outDir + "/claims.json", claimsJson(claims)));
+    if (!o.markdownPath.empty())
+        orFail(outputs.addText(o.markdownPath, pageWithLinksFrom(fs::absolute(o.markdownPath).parent_path())));
+    orFail(outputs.commit());
+    if (Progress::quiet()) return;
+    std::map<std::string, int> verdicts;
+    for (const ClaimResult& c : claims) ++verdicts[c.verdict];
+    std::string counts;
+    for (const auto& [verdict, n] : verdicts) counts += fmt::format("{}{} {}", counts.empty() ? "" : ", ", n, verdict);
+    std::cout << fmt::format("\n{}: {} claims: {}\nwrote {}/report.md, claims.json{}\n", o.preset, claims.size(),
+                             counts, o.outDir, o.markdownPath.empty() ? "" : ", " + o.markdownPath);
+}
+
 }  // namespace
 
 std::string commandLine(const RunOptions& o) {
@@ -555,6 +624,7 @@ std::string commandLine(const RunOptions& o) {
         if (value) s += fmt::format(" {} {}", flag, *value);
     if (o.phiMax) s += fmt::format(" --phi-max {}", *o.phiMax);
     if (v.smoke) s += " --smoke";
+    if (v.quick) s += " --quick";
     if (v.repeats) s += fmt::format(" --repeats {}", v.repeats);
     if (o.threads) s += fmt::format(" --threads {}", o.threads);
     return s;
@@ -579,6 +649,10 @@ Status run(const RunOptions& o) {
         ThreadLimit limit(o.threads);
         BenchConfig config = orFail(presetConfig(o.preset));
         orFail(applyOverrides(config, o.overrides));
+        if (config.kind == StudyKind::Paper) {
+            runPaper(o, config);
+            return {};
+        }
         std::vector<RowSpec> rows;
         for (const std::string& t : config.techniques) rows.push_back(orFail(parseRowSpec(t)));
         std::vector<Overrides> overrides = orFail(globalOverrides(o, rows));

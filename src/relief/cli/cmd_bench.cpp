@@ -35,6 +35,9 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_option("--repeats", v.repeats, "timed runs per row (the best counts)")
         ->check(CLI::Range(1, 1000));
     cmd->add_flag("--smoke", v.smoke, "a seconds-long run of the preset: maps 64², one view, 32×32 rays, one repeat");
+    cmd->add_flag("--quick", v.quick,
+                  "a minutes-long run of the preset with every view: maps at most 256², map sizes at most 512, "
+                  "160×128 rays, one repeat");
     cmd->add_option("--out-dir", o->outDir, "output folder")->capture_default_str();
     cmd->add_option("--markdown", o->markdownPath, "also write the Markdown report to this file");
     cmd->add_flag("--no-images", o->noImages, "skip the per-run images");

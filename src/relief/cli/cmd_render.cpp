@@ -2,11 +2,14 @@
 // One path for every row: each is drawn with its image method (TechniqueInfo::image: per pixel
 // through its tracer, or the visibility-curve renderer) on the base surface (the plane, or the
 // sphere for rows that can draw it), measured against that surface's exact reference.
+// With --mesh, one row's shader-library function draws the relief on a mesh through EGL instead
+// (preview/mesh_renderer.h): a material preview, not a measurement.
 #include <relief/cli/common.h>
 #include <relief/core/memory_budget.h>
 #include <relief/core/parallel.h>
 #include <relief/core/progress.h>
 #include <relief/io/image_write.h>
+#include <relief/preview/mesh_renderer.h>
 #include <relief/render/compare.h>
 #include <relief/render/curves/curves_image.h>
 #include <relief/render/renderer.h>
@@ -47,6 +50,13 @@ struct RenderOptions {
     int threads = 0;
     std::string baseSurface = "plane";  // DESIGN §6: plane or sphere
     double radius = 0.0;
+    // --mesh: the material preview (meshRender); which of the options only it reads were given.
+    std::string mesh;
+    float tiles = 1.0f;
+    std::optional<float> crossingPlane;
+    std::vector<std::string> meshGiven;
+    // Options the mesh preview cannot honour, when given (set after parsing).
+    std::vector<std::string> notForMesh;
 };
 
 // What the visibility-curve renderer adds to a run's summary (the paper's Table 1 counts).
@@ -322,8 +332,80 @@ TechniqueRun planeRun(const TechniqueInfo& info, const Surface& surface, const C
     return run;
 }
 
+// --mesh: one row's shader-library function on a mesh (preview/mesh_renderer.h).
+void meshRender(const RenderOptions& o) {
+    if (!o.notForMesh.empty())
+        throw CommandFailed{makeError(ErrorKind::BadArgument, "{}: not read with --mesh",
+                                      o.notForMesh.front())};
+    if (o.output.empty())
+        throw CommandFailed{{ErrorKind::BadArgument, "--mesh: say where to write: -o FILE.png"}};
+    if (o.technique.name == "all" || o.technique.name.find(',') != std::string::npos)
+        throw CommandFailed{makeError(ErrorKind::BadArgument,
+                                      "-t {}: --mesh draws one technique", o.technique.name)};
+    const TechniqueInfo& info = *orFail(lookupTechnique(o.technique.name));
+    if (info.shaderFunction.empty())
+        throw CommandFailed{makeError(
+            ErrorKind::Unsupported, "--mesh: {} has no shader-library function (takes: {})",
+            info.name, namesWhere([](const TechniqueInfo& i) { return !i.shaderFunction.empty(); }))};
+    const ivec2 size = orFail(parseImageSize(o.size));
+    const preview::Mesh mesh = orFail(preview::loadMesh(o.mesh));
+    const TechniqueInfo* const row[] = {&info};
+    const Overrides overrides = orFail(parameterOverrides(row, o.technique)).front();
+    if (!o.technique.mapsPath.empty() && !info.buildMaps)
+        throw CommandFailed{makeError(ErrorKind::Unsupported, "--maps: {} reads no maps", info.name)};
+    auto hf = orFail(loadHeightfield(o.surface));
+    auto surface = orFail(makeSurface(o.surface, hf));
+    std::shared_ptr<const MapFile> file;
+    if (!o.technique.mapsPath.empty()) file = orFail(loadCheckedMaps(o.technique.mapsPath, *surface));
+    const TechniqueInput input =
+        orFail(techniqueInput(info, surface, overrides, file.get(), o.technique.mapsPath));
+    if (info.check) orFail(info.check(input));
+    TechniqueMaps built;
+    if (input.maps) built = *input.maps;
+    else if (info.buildMaps) built = orFail(info.buildMaps(input));
+    const std::optional<ImageRgb8> color = loadColorMap(o);
+    preview::MeshRenderSettings settings;
+    settings.width = size.x;
+    settings.height = size.y;
+    settings.view = o.view;
+    settings.towardsLight = directionFromAngles(o.lightElevation, o.lightAzimuth);
+    settings.shadows = o.shadows;
+    settings.tiles = o.tiles;
+    settings.exposure = o.exposure;
+    settings.specular = o.specular;
+    settings.crossingHeight = o.crossingPlane;
+    const preview::MeshImage image = orFail(preview::renderMesh(
+        info, input.params, built, surface, mesh, color ? &*color : nullptr, settings));
+    OutputSet outputs;
+    orFail(writePng(outputs, o.output, image.color));
+    if (!o.depthOut.empty()) orFail(writeFloatImage(outputs, o.depthOut, image.distance));
+    orFail(outputs.commit());
+    int64_t relief = 0, crossing = 0;
+    for (preview::MeshPixel p : image.object.pixels) {
+        relief += p == preview::MeshPixel::Relief;
+        crossing += p == preview::MeshPixel::Crossing;
+    }
+    const int64_t pixels = int64_t(size.x) * size.y;
+    std::ostream& out = o.output == "-" || o.depthOut == "-" ? std::cerr : std::cout;
+    if (Progress::quiet()) return;
+    if (o.format == "json") {
+        out << nlohmann::json{{"technique", info.name}, {"mesh", o.mesh}, {"pixels", pixels},
+                              {"relief_pixels", relief}, {"crossing_pixels", crossing}}
+                   .dump(2)
+            << "\n";
+        return;
+    }
+    out << fmt::format("{} on mesh {}: {}x{}, relief {} px ({:.1f}%), crossing plane {} px\n",
+                       info.name, o.mesh, size.x, size.y, relief, 100.0 * double(relief) / double(pixels),
+                       crossing);
+}
+
 void runRender(const RenderOptions& o) {
     ThreadLimit limit(o.threads);
+    if (!o.mesh.empty()) return meshRender(o);
+    if (!o.meshGiven.empty())
+        throw CommandFailed{makeError(ErrorKind::BadArgument, "{}: read with --mesh only",
+                                      o.meshGiven.front())};
     if (o.shading == "diagnostic")
         for (const std::string& option : o.previewGiven)
             if (option != "--shading" && option != "--smooth-normals")
@@ -500,8 +582,28 @@ void addRenderCommand(CLI::App& app) {
         ->check(CLI::IsMember({"plane", "sphere"}))->capture_default_str();
     cmd->add_option("--radius", o->radius, "sphere radius in texels (default W/2pi)")
         ->check(finiteRange(0.0, 1e7));
+    cmd->add_option("--mesh", o->mesh,
+                    "draw the relief on a mesh with the technique's shader-library function "
+                    "(GL, headless): plane, cube, sphere, cylinder or FILE.gltf/.glb; -o and "
+                    "--depth-out (distance from the eye) as without it")
+        ->check([](const std::string& v) { return v.empty() ? "--mesh: empty" : ""; });
+    cmd->add_option("--tiles", o->tiles, "--mesh: the map repeats this often per uv unit")
+        ->check(finiteRange(1e-3, 1e4))->capture_default_str();
+    cmd->add_option("--crossing-plane", o->crossingPlane,
+                    "--mesh: add a flat horizontal square at relief height H (0 = bottom, 1 = top "
+                    "of the relief at the mesh's topmost point), to show the pixel depth offset")
+        ->check(finiteRange(-16.0, 16.0));
     addThreadsOption(*cmd, o->threads);
     cmd->callback([o, cmd] {
+        o->meshGiven.clear();
+        for (const char* option : {"--tiles", "--crossing-plane"})
+            if (cmd->count(option) > 0) o->meshGiven.emplace_back(option);
+        o->notForMesh.clear();
+        for (const char* option : {"--out-dir", "--steps-out", "--error-out", "--normal",
+                                   "--smooth-normals", "--surface", "--radius", "--backend",
+                                   "--deterministic"})
+            if (cmd->count(option) > 0) o->notForMesh.emplace_back(option);
+        if (o->shading != "preview") o->notForMesh.emplace_back("--shading diagnostic");
         o->previewGiven.clear();
         for (const char* option : {"--shading", "--exposure", "--specular", "--smooth-normals"})
             if (cmd->count(option) > 0 &&

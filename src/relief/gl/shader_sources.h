@@ -2,7 +2,8 @@
 // Shader sources embedded at build time (embed_shaders.cmake): every src/relief/gl/shaders/*.glsl
 // under its file name ("common_surface.glsl"), every src/relief/surface/*.glsl under
 // "surface/NAME.glsl" and every src/relief/techniques/*/*.glsl under "TECH/NAME.glsl"
-// ("exact/exact.glsl", the value of TechniqueInfo::glsl).
+// ("exact/exact.glsl", the value of TechniqueInfo::glsl); the engine shader library
+// (shaders/relief/*.glsl) under "library/NAME.glsl" (gl/shader_library.h).
 #include <cstddef>
 #include <span>
 #include <string_view>

@@ -9,11 +9,18 @@ vec3 directionFromAngles(float elevationDeg, float azimuthDeg) {
     return {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
 }
 
+namespace {
+vec3 boxSize(const Surface& surface) {
+    return vec3(float(surface.width()), float(surface.height()), surface.depth());
+}
+}  // namespace
+
 Camera::Camera(const OrbitView& view, const Surface& surface, int width, int height)
+    : Camera(view, 0.5f * boxSize(surface), glm::length(boxSize(surface)), width, height) {}
+
+Camera::Camera(const OrbitView& view, vec3 target, float diameter, int width, int height)
     : m_width(width), m_height(height) {
-    const vec3 size(float(surface.width()), float(surface.height()), surface.depth());
-    const vec3 target = 0.5f * size;
-    m_eye = target + view.distance * glm::length(size) *
+    m_eye = target + view.distance * diameter *
                          directionFromAngles(view.elevationDeg, view.azimuthDeg);
     m_forward = glm::normalize(target - m_eye);
     // Straight down, "up" on screen is the azimuth direction projected on the base plane.

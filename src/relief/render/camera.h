@@ -35,6 +35,8 @@ inline constexpr int kStandardCaps[] = {4, 6, 8, 12, 24, 48, 200};
 class Camera {
 public:
     Camera(const OrbitView& view, const Surface& surface, int width, int height);
+    // The same orbit around `target`, the distance in units of `diameter` (the mesh preview).
+    Camera(const OrbitView& view, vec3 target, float diameter, int width, int height);
 
     // Primary ray through the image point (px, py) in pixels, (0,0) = top-left corner.
     Ray primaryRay(float px, float py) const {

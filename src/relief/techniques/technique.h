@@ -88,6 +88,12 @@ enum class ClaimMetric : uint8_t {
     WrongPercent,   // % of the pixels with a wrong hit (hit/miss difference or |dt| over the tolerance)
     PastFirstHitPercent,  // % of the pixels whose hit lies past the reference's first hit, or that miss it
     BuildSeconds,   // map build, wall seconds
+    // The visibility-curve renderer's Table 1 counters (rows drawn with ImageMethod::VisibilityCurves):
+    ExtraSamplesPercent,   // extra samples (outside the mapped region) as % of the inside samples
+    AdvancePerSample,      // advance steps per sample
+    ReversePerSample,      // reverse steps per sample
+    BinaryCutsPerReverse,  // binary cuts per reverse step
+    EvaluationsPerSample,  // advance + reverse + binary per sample
 };
 // One side of a claim: row `numerator` (a row label of the part) over row `denominator` on the
 // same views (geometric mean of the per-view ratios); an empty denominator: the numerator's
