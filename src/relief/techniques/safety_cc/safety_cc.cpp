@@ -1,19 +1,27 @@
 #include <relief/techniques/safety_cc/safety_cc.h>
 
+#include <relief/techniques/safety_common/safety_sampled.h>
+
 namespace relief {
 
 namespace {
 
 constexpr const char* kName = "safety-cc";
 
-safety::CylinderConeMap buildCone(const Surface& surface, const safety::BuildOptions& build) {
-    return safety::buildConeMap(surface, safety::buildDistanceMap(surface, build), build);
+// The slanted planes over the exact or (precompute=1) sampled radii.
+safety::CylinderConeMap buildCone(const Surface& surface, const safety::BuildOptions& build,
+                                  bool sampled) {
+    return safety::buildConeMap(surface, safety::buildDistanceMapFor(surface, build, sampled), build);
 }
 
 }  // namespace
 
 Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
-    auto map = safety::mapFor<safety::CylinderConeMap>(input, safety::coneMapFromArrays, buildCone);
+    if (Status ok = safety::checkSampledPrecompute(input.params, input.maps); !ok) return ok.error();
+    const bool sampled = safety::sampledPrecompute(input.params);
+    auto map = safety::mapFor<safety::CylinderConeMap>(
+        input, safety::coneMapFromArrays,
+        [sampled](const Surface& s, const safety::BuildOptions& o) { return buildCone(s, o, sampled); });
     if (!map) return map.error();
     auto& [shape, build] = *map;
     return SafetyCcTracer(input.surface, safety::ConeShape(std::move(shape)),
@@ -29,7 +37,11 @@ Result<std::unique_ptr<Tracer>> createSafetyCc(const TechniqueInput& input) {
 Result<TechniqueMaps> buildSafetyCcMaps(const TechniqueInput& input) {
     const safety::BuildOptions build = safety::buildOptionsFrom(input.params);
     if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
-    return safety::coneMapToArrays(kName, buildCone(*input.surface, build), build);
+    if (Status ok = safety::checkSampledPrecompute(input.params, nullptr); !ok) return ok.error();
+    const bool sampled = safety::sampledPrecompute(input.params);
+    TechniqueMaps maps = safety::coneMapToArrays(kName, buildCone(*input.surface, build, sampled), build);
+    safety::recordPrecompute(maps, sampled);
+    return maps;
 }
 
 }  // namespace relief

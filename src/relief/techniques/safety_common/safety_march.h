@@ -27,6 +27,7 @@ struct MarchOptions {
     bool exterior = false;          // maps for exterior rays: interior origins take the exact walk
     bool viewDependent = false;     // §7: linear along the ray between test positions
     bool positiveDistance = false;  // §7: safety distances clamped to ≥ 1
+    bool phiOutside = false;        // rays outside φ_max march on the maps too (the paper's way)
 };
 
 // Fewer centerlines than this inside the box (near-vertical rays): the exact walk is cheaper.
@@ -226,7 +227,7 @@ Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
     if (span.empty()) return hit;
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
-    if (!rayWithinPhiMax(d, m_tanPhi) || (m_options.exterior && !originIsExterior(*m_surface, o))) {
+    if ((!m_options.phiOutside && !rayWithinPhiMax(d, m_tanPhi)) || (m_options.exterior && !originIsExterior(*m_surface, o))) {
         m_fallbacks->fetch_add(1, std::memory_order_relaxed);
         cellsHit(ray, span.tEnter, span.tExit, true, hit);
         return hit;

@@ -18,6 +18,7 @@ MarchOptions marchOptionsFrom(const ParamValues& params, const BuildOptions& bui
     m.exterior = build.exterior;
     m.viewDependent = params.getInt("view-dependent") != 0;
     m.positiveDistance = params.getInt("positive-distance") != 0;
+    m.phiOutside = params.getInt("phi-outside") != 0;
     return m;
 }
 
@@ -27,6 +28,11 @@ std::string phiMaxViewWarning(const ParamValues& params, std::span<const Ray> ra
     size_t outside = 0;
     for (const Ray& r : rays) outside += !rayWithinPhiMax(r.direction, tanPhi);
     if (outside == 0) return {};
+    if (params.getInt("phi-outside") != 0)
+        return fmt::format("{:.1f}% of the primary rays are outside the maps' viewing-angle "
+                           "restriction (phi-max {}): phi-outside=1 marches them on the maps anyway "
+                           "(approximate: they can step past a hit)",
+                           100.0 * double(outside) / double(rays.size()), phiMax);
     return fmt::format("{:.1f}% of the primary rays are outside the maps' viewing-angle restriction "
                        "(phi-max {}): they take the exact walk, which is slower (results stay exact)",
                        100.0 * double(outside) / double(rays.size()), phiMax);

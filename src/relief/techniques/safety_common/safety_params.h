@@ -28,6 +28,14 @@ inline constexpr ParamSpec kViewDependent{
 inline constexpr ParamSpec kPositiveDistance{
     "positive-distance", 0, 0, 1, true,
     "1 = safety distances clamped to >= 1 (§7; approximate at sharp edges)", ParamRole::Variant};
+inline constexpr ParamSpec kPhiOutside{
+    "phi-outside", 0, 0, 1, true,
+    "1 = rays outside phi-max use the maps anyway (the paper's rendering; approximate: they can "
+    "step past a hit); 0 = they take the exact walk", ParamRole::Variant};
+inline constexpr ParamSpec kPrecompute{
+    "precompute", 0, 0, 1, true,
+    "safety distances: 0 = exact (§6.1, every ray), 1 = sampled (§8: 8 positions on s_tau x 256 "
+    "directions; approximate, the distances can be too long)", ParamRole::MapShape};
 inline constexpr ParamSpec kExterior{
     "exterior", 0, 0, 1, true,
     "1 = maps for exterior rays only (§6.2, viewpoint outside the box; clamp mode): longer "
@@ -41,12 +49,14 @@ inline constexpr ParamSpec kExteriorSlope{
 
 inline constexpr ParamSpec kSafetyParams[] = {
     param::kMaxSteps,      param::kPhiMax,           param::kIsotropic,
-    param::kViewDependent, param::kPositiveDistance, param::kExterior,
+    param::kViewDependent, param::kPositiveDistance, param::kExterior, param::kPhiOutside,
+    param::kPrecompute,
 };
 // safety-cc adds the choice of cone slope.
 inline constexpr ParamSpec kSafetyCcParamList[] = {
     param::kMaxSteps,         param::kPhiMax,   param::kIsotropic,     param::kViewDependent,
-    param::kPositiveDistance, param::kExterior, param::kExteriorSlope,
+    param::kPositiveDistance, param::kExterior, param::kExteriorSlope, param::kPhiOutside,
+    param::kPrecompute,
 };
 
 BuildOptions buildOptionsFrom(const ParamValues& params);

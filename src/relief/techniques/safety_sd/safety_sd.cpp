@@ -1,5 +1,7 @@
 #include <relief/techniques/safety_sd/safety_sd.h>
 
+#include <relief/techniques/safety_common/safety_sampled.h>
+
 namespace relief {
 
 namespace {
@@ -7,8 +9,12 @@ constexpr const char* kName = "safety-sd";
 }
 
 Result<SafetySdTracer> makeSafetySdTracer(const TechniqueInput& input) {
-    auto map = safety::mapFor<safety::DistanceMap>(input, safety::distanceMapFromArrays,
-                                                   safety::buildDistanceMap);
+    if (Status ok = safety::checkSampledPrecompute(input.params, input.maps); !ok) return ok.error();
+    const bool sampled = safety::sampledPrecompute(input.params);
+    auto map = safety::mapFor<safety::DistanceMap>(
+        input, safety::distanceMapFromArrays, [sampled](const Surface& s, const safety::BuildOptions& o) {
+            return safety::buildDistanceMapFor(s, o, sampled);
+        });
     if (!map) return map.error();
     auto& [shape, build] = *map;
     return SafetySdTracer(input.surface, safety::DistanceShape(std::move(shape)),
@@ -24,8 +30,12 @@ Result<std::unique_ptr<Tracer>> createSafetySd(const TechniqueInput& input) {
 Result<TechniqueMaps> buildSafetySdMaps(const TechniqueInput& input) {
     const safety::BuildOptions build = safety::buildOptionsFrom(input.params);
     if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
-    return safety::distanceMapToArrays(kName, safety::buildDistanceMap(*input.surface, build),
-                                       build);
+    if (Status ok = safety::checkSampledPrecompute(input.params, nullptr); !ok) return ok.error();
+    const bool sampled = safety::sampledPrecompute(input.params);
+    TechniqueMaps maps = safety::distanceMapToArrays(
+        kName, safety::buildDistanceMapFor(*input.surface, build, sampled), build);
+    safety::recordPrecompute(maps, sampled);
+    return maps;
 }
 
 }  // namespace relief
