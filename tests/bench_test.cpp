@@ -356,6 +356,28 @@ TEST(BenchCommand, PaperPageJudgesClaimsFromItsParts) {
     fs::remove_all(out);
 }
 
+// A study with a shadow light (safety-shadows): every row's shadow test of the reference's points,
+// traced from the light, is recorded; the exact rows find the reference's shadows everywhere.
+TEST(BenchCommand, ShadowStudyCountsWrongShadows) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_shadow_" + std::to_string(::getpid()));
+    fs::create_directories(out);
+    ASSERT_EQ(runBench("--preset safety-shadows --heightfields gen:fbm:96x96 --size 64x48", out), 0)
+        << readText(out.string() + ".log");
+    int exactRows = 0;
+    for (const auto& r : resultRows(out)) {
+        const double rate = r.at("shadow_wrong_rate");
+        if (r.at("contract") == "peer") continue;
+        EXPECT_GE(rate, 0.0) << r.at("technique");
+        EXPECT_LE(rate, 1.0) << r.at("technique");
+        if (r.at("contract") == "exact") {
+            EXPECT_EQ(rate, 0.0) << r.at("technique") << " at " << r.at("elevation");
+            ++exactRows;
+        }
+    }
+    EXPECT_GE(exactRows, 4);  // safety-sd and safety-cc at two elevations
+    fs::remove_all(out);
+}
+
 TEST(BenchCommand, RejectsBadOptions) {
     const fs::path out = fs::temp_directory_path() / ("relief_bench_bad_" + std::to_string(::getpid()));
     fs::create_directories(out);

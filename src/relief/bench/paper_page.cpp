@@ -25,6 +25,7 @@ double metricValue(const BenchRow& r, ClaimMetric metric) {
         case ClaimMetric::WrongPercent: return 100.0 * r.stats.wrongRate();
         case ClaimMetric::PastFirstHitPercent: return 100.0 * r.stats.pastFirstHitRate();
         case ClaimMetric::BuildSeconds: return r.buildSeconds;
+        case ClaimMetric::ShadowWrongPercent: return r.shadowWrongRate >= 0 ? 100.0 * r.shadowWrongRate : nan;
         case ClaimMetric::ExtraSamplesPercent:
             return r.curves && r.curves->counts.insideSamples
                        ? 100.0 * double(r.curves->counts.extraSamples) / double(r.curves->counts.insideSamples)
@@ -65,7 +66,8 @@ std::string formatValue(double v, ClaimMetric metric, bool ratio) {
         case ClaimMetric::Steps: return fmt::format("{:.2f} steps", v);
         case ClaimMetric::MeanError: return fmt::format("{:.3g} texels", v);
         case ClaimMetric::WrongPercent:
-        case ClaimMetric::PastFirstHitPercent: return fmt::format("{:.2f} %", v);
+        case ClaimMetric::PastFirstHitPercent:
+        case ClaimMetric::ShadowWrongPercent: return fmt::format("{:.2f} %", v);
         case ClaimMetric::BuildSeconds: return fmt::format("{:.2f} s", v);
         case ClaimMetric::ExtraSamplesPercent: return fmt::format("{:.1f} %", v);
         case ClaimMetric::AdvancePerSample:
@@ -84,6 +86,7 @@ std::string_view metricName(ClaimMetric metric) {
         case ClaimMetric::WrongPercent: return "wrong pixels";
         case ClaimMetric::PastFirstHitPercent: return "pixels past the first hit";
         case ClaimMetric::BuildSeconds: return "build s";
+        case ClaimMetric::ShadowWrongPercent: return "pixels with a wrong shadow";
         case ClaimMetric::ExtraSamplesPercent: return "extra samples (% of inside)";
         case ClaimMetric::AdvancePerSample: return "advance steps/sample";
         case ClaimMetric::ReversePerSample: return "reverse steps/sample";

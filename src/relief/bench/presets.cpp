@@ -111,6 +111,7 @@ BenchConfig fromStudy(const StudySpec& s) {
     c.compare = std::string(s.compare);
     c.paperNotes = std::string(s.paperNotes);
     c.imageMethod = s.imageMethod;
+    c.shadowElevation = s.shadowElevation;
     c.parts = strings(s.parts);
     c.claims = s.claims;
     c.paperFile = std::string(s.paperFile);

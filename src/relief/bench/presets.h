@@ -49,6 +49,7 @@ struct BenchConfig {
     // both; the report's "Embree user geometry" table.
     bool userGeometry = false;
     // StudyKind::Paper: the studies it runs, in order, and the claims it judges from their rows.
+    float shadowElevation = 0.0f;  // StudySpec::shadowElevation
     std::vector<std::string> parts;
     std::span<const ClaimSpec> claims;
     std::string paperFile;

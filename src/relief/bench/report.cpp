@@ -586,6 +586,7 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
                         {"error_mean", r.stats.error.mean}, {"error_p95", r.stats.error.p95},
                         {"error_max", r.stats.error.max}, {"wrong_rate", r.stats.wrongRate()},
                         {"past_first_hit_rate", r.stats.pastFirstHitRate()},
+                        {"shadow_wrong_rate", r.shadowWrongRate},
                         {"agree_rate", r.agreeRate}, {"box_steps_mean", r.boxSteps.mean},
                         {"box_steps_p99", r.boxSteps.p99}, {"map_samples", r.mapSamples},
                         {"steps_mean", r.stats.steps.mean}, {"steps_max", r.stats.steps.max},

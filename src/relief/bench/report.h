@@ -31,6 +31,7 @@ struct BenchRow {
     float elevation = 0;
     int cap = 0;  // 0 = the technique's default / none
     ErrorStats stats;
+    double shadowWrongRate = -1;  // StudySpec::shadowElevation: pixels with the wrong shadow / pixels; < 0: not run
     double agreeRate = 0;  // pixels with the reference's hit/miss and |Δt| <= 1e-3 texel (the exact contract)
     Summary boxSteps;      // steps over the rays that enter the relief's box
     int64_t mapSamples = 0;

@@ -286,6 +286,7 @@ private:
             OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
             const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
             const Image<Hit> referenceHits = tracePrimary(camera, *reference);
+            if (m_config.shadowElevation > 0.0f) prepareShadows(*surface, referenceHits, *reference);
             m_inBox.clear();
             for (const Ray& ray : primaryRays(camera)) m_inBox.push_back(!surface->clip(ray).empty());
             if (embree) runEmbree(label, elevation, camera, *embree, referenceHits);
@@ -304,6 +305,18 @@ private:
             if (wants("gl")) runMesh(label, elevation, *surface, camera);
             progress.advance();
         }
+    }
+
+    // StudySpec::shadowElevation: the reference's primary hits that face the light, and whether
+    // the reference finds each lit (traced from the light, as every row's shadow test is).
+    void prepareShadows(const Surface& surface, const Image<Hit>& referenceHits, const Tracer& reference) {
+        const float e = glm::radians(m_config.shadowElevation), a = glm::radians(kShadowLightAzimuth);
+        m_towardsLight = vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+        m_shadowPoints.clear();
+        for (const Hit& hit : referenceHits.pixels)
+            if (hit.hit && glm::dot(surface.normalAt(hit.position), m_towardsLight) > 0.0f)
+                m_shadowPoints.push_back(hit.position);
+        m_referenceLit = litFromTheLight(surface, m_shadowPoints, reference, m_towardsLight);
     }
 
     bool wants(const std::string& backend) const {
@@ -372,6 +385,12 @@ private:
         agreement(r, hits, reference, m_inBox);
         r.mraysPerSecond = double(hits.pixels.size()) / seconds / 1e6;
         r.msPerFrame = 1000.0 * seconds;
+        if (m_config.shadowElevation > 0.0f) {
+            const std::vector<uint8_t> lit = litFromTheLight(*surface, m_shadowPoints, *tracer, m_towardsLight);
+            size_t wrong = 0;
+            for (size_t k = 0; k < lit.size(); ++k) wrong += lit[k] != m_referenceLit[k];
+            r.shadowWrongRate = double(wrong) / double(std::max<size_t>(1, hits.pixels.size()));
+        }
         if (images) {
             r.images = fmt::format("images/{}_{}_e{:.1f}", slug(map), slug(r.technique), elevation);
             const std::string base = m_o.outDir + "/" + r.images;
@@ -539,6 +558,9 @@ private:
     std::vector<BenchRow> m_rows;
     std::string m_glDevice, m_loadBefore;
     std::vector<char> m_inBox;  // per pixel of the current view: its ray enters the box
+    vec3 m_towardsLight{0, 0, 1};
+    std::vector<vec3> m_shadowPoints;    // the current view's shadow test points
+    std::vector<uint8_t> m_referenceLit;  // the reference's verdict on each
     int64_t m_mapSamples = 0;
 };
 

@@ -2,6 +2,7 @@
 
 #include <relief/core/parallel.h>
 #include <relief/core/progress.h>
+#include <relief/render/compare.h>
 #include <relief/render/texture.h>
 
 #include <chrono>
@@ -62,6 +63,13 @@ vec3 smoothNormalAt(const Surface& s, const vec3& p) {
 
 namespace {
 
+// A shadow ray's start: just above S along the geometric normal (and up), so it really is above
+// the surface the tracer sees even when a normal map bends the shading normal.
+vec3 liftedOffS(const Surface& surface, const vec3& p) {
+    const float offset = 1e-3f * std::max(1.0f, surface.depth());
+    return p + offset * surface.normalAt(p) + offset * vec3(0, 0, 1);
+}
+
 class Shader {
 public:
     Shader(const Surface& s, const Camera& camera, const Shading& shading)
@@ -102,11 +110,7 @@ public:
     bool facesLight(const vec3& n) const { return glm::dot(n, m_shading.towardsLight) > 0.0f; }
     // Starts just above S along the geometric normal, so the origin really is above the surface
     // the tracer sees even when a normal map bends the shading normal.
-    Ray shadowRay(const vec3& p) const {
-        const float offset = 1e-3f * std::max(1.0f, m_surface.depth());
-        return Ray{p + offset * m_surface.normalAt(p) + offset * vec3(0, 0, 1),
-                   m_shading.towardsLight, kInfinity};
-    }
+    Ray shadowRay(const vec3& p) const { return Ray{liftedOffS(m_surface, p), m_shading.towardsLight, kInfinity}; }
     Rgb8 colour(const Hit& hit, const vec3& n, bool shadowed, size_t k) const {
         if (!hit.hit) return toRgb8(m_shading.background);
         if (!m_preview)
@@ -174,6 +178,27 @@ Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seco
     traceAll(tracer, rays, hits.pixels);
     if (seconds) *seconds = secondsSince(start);
     return hits;
+}
+
+std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
+                                     const vec3& towardsLight) {
+    const float top = surface.depth() + 1.0f;  // above the relief's box
+    std::vector<Ray> rays;
+    std::vector<float> lengths;
+    rays.reserve(points.size());
+    lengths.reserve(points.size());
+    for (const vec3& point : points) {
+        const vec3 p = liftedOffS(surface, point);
+        const float length = towardsLight.z > 0.0f ? std::max(0.0f, (top - p.z) / towardsLight.z) : 0.0f;
+        rays.push_back(Ray{p + length * towardsLight, -towardsLight, kInfinity});
+        lengths.push_back(length);
+    }
+    std::vector<Hit> hits(rays.size());
+    traceAll(tracer, rays, hits);
+    std::vector<uint8_t> lit(points.size());
+    for (size_t k = 0; k < points.size(); ++k)
+        lit[k] = !hits[k].hit || hits[k].t >= lengths[k] - kWrongHitDistance;
+    return lit;
 }
 
 RenderResult render(const Surface& surface, const Camera& camera, const Tracer& tracer,

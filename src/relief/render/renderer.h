@@ -6,6 +6,9 @@
 #include <relief/render/camera.h>
 #include <relief/techniques/technique.h>
 
+#include <span>
+#include <vector>
+
 namespace relief {
 
 // Diagnostic: the look the comparisons were made with (ambient + Lambert on the faceted normals,
@@ -42,6 +45,14 @@ RenderResult render(const Surface& surface, const Camera& camera, const Tracer& 
 // hits while tracing, then the hits, normals, shadow rays and their hits (every pixel may need
 // one) and the colour image.
 int64_t renderPeakBytes(int64_t pixels, bool shadows);
+
+// Shadow tests of `points` toward a light in direction `towardsLight` (z > 0), each ray traced
+// from the light toward its point, starting above the relief's box: what a tracer that forbids
+// upward rays (relaxed cones) must do, so that stopping early reads as an occluder. lit[k] = 1 when
+// the first hit lies within kWrongHitDistance of the point (lifted off S as render's shadow rays
+// are) or there is none.
+std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
+                                     const vec3& towardsLight);
 
 // Traces the primary rays only (no shading), in tiles, in parallel.
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds = nullptr);

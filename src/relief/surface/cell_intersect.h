@@ -22,8 +22,8 @@ inline float firstHitOnPlane(const CellPlane& plane, const vec3& origin, const v
     const float above1 = origin.z + tb * direction.z -
                          plane.at(ou + tb * direction.x, ov + tb * direction.y);
     if (above1 > 0.0f) return kInfinity;
-    const double a = double(origin.z) - (double(plane.z0) + double(plane.sx) * double(ou) +
-                                         double(plane.sy) * double(ov));
+    const double du = double(origin.x) - double(cellX), dv = double(origin.y) - double(cellY);
+    const double a = double(origin.z) - (double(plane.z0) + double(plane.sx) * du + double(plane.sy) * dv);
     const double b = double(direction.z) - double(plane.sx) * double(direction.x) -
                      double(plane.sy) * double(direction.y);
     // The float signs say the root lies in (ta, tb]; where rounding makes the double line

@@ -283,9 +283,14 @@ constexpr std::string_view kSafetyBuildsTerrainRows[] = {"safety-sd:isotropic=1"
 constexpr std::string_view kSafetySampledMaps[] = {"gen:fbm:64x64:1"};
 constexpr std::string_view kSafetySampledRows[] = {"exact", "safety-sd:isotropic=1", "safety-sd:isotropic=1:precompute=1",
                                                    "safety-cc:isotropic=1", "safety-cc:isotropic=1:precompute=1"};
+// Fig. 8: shadow rays toward a light at 30°, traced from the light toward each point (relaxed
+// cones forbid upward rays), from the reference's primary hits, against the reference's shadows.
+constexpr std::string_view kSafetyShadowMaps[] = {"gen:fbm:512x512:1"};
+constexpr std::string_view kSafetyShadowRows[] = {"relaxed-cone", "relaxed-cone:max-steps=35", "linear:max-steps=32",
+                                                  "safety-sd", "safety-cc"};
 constexpr std::string_view kSafetyPaperParts[] = {"safety-fig29", "safety-fig29-terrain", "safety-table1",
                                                   "safety-table1-exterior", "safety-builds-terrain",
-                                                  "safety-sampled"};
+                                                  "safety-sampled", "safety-shadows"};
 constexpr std::string_view kFbm256 = "fbm:256x256:1", kFbm512 = "fbm:512x512:1", kFbm1024 = "fbm:1024x1024:1";
 constexpr std::string_view kSrtmCrop = "earth-srtm-5400x2700@256x256+1550+1600", kPeaks6 = "peaks6:256x256:1";
 constexpr std::string_view kSdIso = "safety-sd:isotropic=1", kCcIso = "safety-cc:isotropic=1";
@@ -295,6 +300,19 @@ constexpr std::string_view kCcIsoPhiOutside = "safety-cc:isotropic=1:phi-max=-45
 constexpr std::string_view kWhySpeedOrder =
     "see the steps column: CPU time follows the steps per ray and the cost of each step";
 constexpr ClaimSpec kSafetyClaims[] = {
+    // Fig. 8 / §3: relaxed cones' shadow rays, marched from the light, stop early.
+    {.source = "§3, Fig. 8", .claim = "relaxed cones' shadow rays (marched from the light) terminate early: virtual occlusions",
+     .paper = "artefacts (Fig. 8)", .part = "safety-shadows", .metric = ClaimMetric::ShadowWrongPercent,
+     .paperVariant = {"relaxed-cone"}, .safeVariant = {"safety-cc"}, .low = 0.1,
+     .whyAgrees = "the march from the light ends at its step cap or its binary search settles on a nearer "
+                  "surface, so lit points read as occluded; SD and CC (safe column) find every point's light",
+     .whyDisagrees = "on this map and light RC's shadow rays reach their points within its cap"},
+    {.source = "§3, Fig. 8", .claim = "even a larger step budget (35) does not remove them easily",
+     .paper = "\"even thresholding cannot address easily\"", .part = "safety-shadows",
+     .metric = ClaimMetric::ShadowWrongPercent, .paperVariant = {"relaxed-cone:max-steps=35"},
+     .safeVariant = {"safety-sd"}, .low = 0.1,
+     .whyAgrees = "more steps leave wrong shadows where the relaxed cones' apexes stall the march",
+     .whyDisagrees = "35 steps bring the shadow rays to their points on this map"},
     // Table 1, rendering (isotropic shapes, the paper's fair comparison; directional beside them).
     {"Table 1", "CC renders faster than SD, 256²", "548 / 304 Hz = 1.80×", "safety-table1", ClaimMetric::Speed,
      {kCcIso, kSdIso, kFbm256, kFbm256}, {"safety-cc", "safety-sd", kFbm256, kFbm256}, -90, 90, -1, 0.9, 3.6,
@@ -448,6 +466,9 @@ constexpr StudySpec kSafetyStudies[] = {
     {.name = "safety-sampled", .description = "safety paper page: exact vs sampled precomputation (§8), fbm 64²",
      .maps = kSafetySampledMaps, .techniques = kSafetySampledRows, .elevations = kSafetyFig29Elevations,
      .distance = 0.6f},
+    {.name = "safety-shadows", .description = "safety paper page: shadow artefacts of RC, LS, SD, CC (Fig. 8), fbm 512², light at 30°",
+     .maps = kSafetyShadowMaps, .techniques = kSafetyShadowRows, .elevations = kSafetyFig29Elevations,
+     .distance = 0.6f, .shadowElevation = 30.0f},
     {.name = "safety-builds-terrain", .description = "safety paper page: mean r and build time on fbm and terrain (256²)",
      .kind = StudyKind::Builds, .maps = kSafetyBuildsTerrainMaps, .techniques = kSafetyBuildsTerrainRows},
     {.name = "safety", .description = "precomputed safety shapes: the paper's page (Fig. 29, Table 1, §7-§8)",

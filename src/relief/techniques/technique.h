@@ -88,6 +88,9 @@ enum class ClaimMetric : uint8_t {
     WrongPercent,   // % of the pixels with a wrong hit (hit/miss difference or |dt| over the tolerance)
     PastFirstHitPercent,  // % of the pixels whose hit lies past the reference's first hit, or that miss it
     BuildSeconds,   // map build, wall seconds
+    // % of the pixels whose shadow (lit or not, toward StudySpec::shadowElevation's light, from the
+    // reference's primary hit, traced from the light toward the point) differs from the reference's
+    ShadowWrongPercent,
     // The visibility-curve renderer's Table 1 counters (rows drawn with ImageMethod::VisibilityCurves):
     ExtraSamplesPercent,   // extra samples (outside the mapped region) as % of the inside samples
     AdvancePerSample,      // advance steps per sample
@@ -123,6 +126,7 @@ struct PaperRatioSpec {
     std::string_view numeratorTechnique, numeratorMap, denominatorTechnique, denominatorMap;
     std::string_view backend = "cpu";
 };
+inline constexpr float kShadowLightAzimuth = 135.0f;  // degrees: StudySpec::shadowElevation's light
 struct StudySpec {
     std::string_view name, description;
     StudyKind kind = StudyKind::Views;
@@ -139,6 +143,10 @@ struct StudySpec {
     std::string_view paperNotes;
     std::span<const PaperRatioSpec> paperRatios;
     bool imageMethod = false;  // rows draw with their own TechniqueInfo::image, not one ray per pixel
+    // > 0: every row also traces shadow rays toward a light at this elevation (degrees; azimuth
+    // kShadowLightAzimuth) from the reference's primary hits, from the light toward the point as
+    // a relaxed-cone tracer must (it forbids upward rays), and counts where it differs (bench).
+    float shadowElevation = 0.0f;
     // StudyKind::Paper: the studies it runs (preset names, any row's), the claims it judges, and
     // the paper (a file name in ../shared/papers).
     std::span<const std::string_view> parts = {};
