@@ -691,16 +691,21 @@ DistanceMap buildDistances(const Surface& s, const BuildOptions& options, bool p
         });
     }
     if (!options.isotropic) return map;
+    return isotropicMinimum(map);
+}
+
+}  // namespace
+
+DistanceMap isotropicMinimum(const DistanceMap& directional) {
+    const int w = directional.width, h = directional.height;
     DistanceMap iso{w, h, 1, std::vector<uint16_t>(size_t(w) * size_t(h))};
     for (size_t k = 0; k < iso.r.size(); ++k) {
-        uint16_t r = map.r[k];
-        for (int c = 1; c < kClassCount; ++c) r = std::min(r, map.r[size_t(c) * iso.r.size() + k]);
+        uint16_t r = directional.r[k];
+        for (int c = 1; c < directional.classes; ++c) r = std::min(r, directional.r[size_t(c) * iso.r.size() + k]);
         iso.r[k] = r;
     }
     return iso;
 }
-
-}  // namespace
 
 DistanceMap buildDistanceMap(const Surface& s, const BuildOptions& options) {
     return buildDistances(s, options, true);

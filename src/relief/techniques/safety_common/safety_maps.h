@@ -63,6 +63,9 @@ struct DistanceMap {
     }
 };
 
+// The isotropic map of a directional one: per texel the minimum over the four classes.
+DistanceMap isotropicMinimum(const DistanceMap& directional);
+
 // The hybrid shape of §6.3 for one texel and class: the cylinder of radius r and the slanted
 // plane z = z_c + s_c·(a − r) (a in centerlines from the texel); z0 = z_c − r·s_c is what the
 // tracer uses.

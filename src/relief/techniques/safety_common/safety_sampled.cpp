@@ -118,13 +118,7 @@ DistanceMap buildSampledDistanceMap(const Surface& s, const BuildOptions& option
         }
     });
     if (!options.isotropic) return map;
-    DistanceMap iso{w, h, 1, std::vector<uint16_t>(size_t(w) * size_t(h))};
-    for (size_t k = 0; k < iso.r.size(); ++k) {
-        uint16_t r = map.r[k];
-        for (int c = 1; c < kClassCount; ++c) r = std::min(r, map.r[size_t(c) * iso.r.size() + k]);
-        iso.r[k] = r;
-    }
-    return iso;
+    return isotropicMinimum(map);
 }
 
 bool sampledPrecompute(const ParamValues& params) {
