@@ -43,18 +43,20 @@ float qdmReach(QdmTexel q) {
     return maxDistance;
 }
 
-// parabolaStep (Algorithm 2): the smaller root on the parabola's side of the junction.
+// parabolaStep (Algorithm 2 from the junction on, as qdm_map.h says why).
 float parabolaStep(QdmTexel q, float h0, float horizontal, float dz) {
-    precise float halfB = 0.5 * dz - q.c * horizontal;
+    if (!(horizontal > 0.0)) return kInfinity;
+    const float tJunction = divide(q.a, horizontal);
+    precise float above = h0 + dz * tJunction - q.b;
+    if (!(above > 0.0)) return tJunction;
+    precise float halfB = 0.5 * dz - (q.c - q.a) * horizontal;
     if (halfB >= 0.0) return kInfinity;
     precise float A = horizontal * horizontal;
-    precise float C = h0 - q.b - q.a * q.a + 2.0 * q.a * q.c;
-    precise float disc = halfB * halfB - A * C;
+    precise float disc = halfB * halfB - A * above;
     if (disc < 0.0) return kInfinity;
     precise float denominator = -halfB + squareRoot(disc);
-    const float t = divide(C, denominator);
-    precise float travel = t * horizontal;
-    return travel >= q.a ? t : kInfinity;
+    precise float t = tJunction + divide(above, denominator);
+    return t;
 }
 
 // quadricStep: the largest dt the profile of an apex at height q.h allows from height z.

@@ -66,19 +66,26 @@ inline float qdmProfile(const QdmTexel& q, float x) {
     return q.b + u * (2.0f * (q.c - q.a) - u);
 }
 
-// Algorithm 2 for A = |d.xy|², B = dz − 2c|d.xy|, C = h0 − b − a² + 2ac: the smaller root, kept
-// only where it lies on the parabola's side of the junction (x ≥ a); kInfinity otherwise. With
-// the ray above the profile at x = a, B ≥ 0 or a smaller root before the junction means the ray
-// never meets the parabola.
+// Algorithm 2, solved from the junction (x = a) on: with u = x − a and τ = t − a/|d.xy|, the ray
+// is `above` = h0 + dz·a/|d.xy| − b over the profile there (the line part found no crossing
+// before it) and meets P(u) = b + u(2(c − a) − u) where A τ² + 2·halfB τ + above = 0,
+// A = |d.xy|², halfB = dz/2 − (c − a)|d.xy|; the smaller root τ = above / (−halfB + √disc)
+// ≥ 0, kInfinity where there is none (halfB ≥ 0 or disc < 0: the ray stays above P). Why not
+// the paper's form (C = h0 − b − a² + 2ac about x = 0): next to a cliff c is huge (1e6 texels
+// on terraces), 2ac swamps h0 − b in float, and the root rounded to just before the junction
+// read as "no root", so a rising ray stepped through the cliff (found by the contract harness
+// on more seeds). Here every term stays at the scale of the ray's height over the profile.
 inline float parabolaStep(const QdmTexel& q, float h0, float horizontal, float dz) {
-    const float halfB = 0.5f * dz - q.c * horizontal;
+    if (!(horizontal > 0.0f)) return kInfinity;  // vertical: the line part (x = 0) decides
+    const float tJunction = q.a / horizontal;
+    const float above = h0 + dz * tJunction - q.b;
+    if (!(above > 0.0f)) return tJunction;  // rounding put the ray on the profile there
+    const float halfB = 0.5f * dz - (q.c - q.a) * horizontal;
     if (halfB >= 0.0f) return kInfinity;
     const float A = horizontal * horizontal;
-    const float C = h0 - q.b - q.a * q.a + 2.0f * q.a * q.c;
-    const float disc = halfB * halfB - A * C;
+    const float disc = halfB * halfB - A * above;
     if (disc < 0.0f) return kInfinity;
-    const float t = C / (-halfB + std::sqrt(disc));
-    return t * horizontal >= q.a ? t : kInfinity;
+    return tJunction + above / (-halfB + std::sqrt(disc));
 }
 
 class QdmMap {
