@@ -1,6 +1,8 @@
 // Every registry row is complete and self-consistent: what consumers read from a row (roles,
 // variants and their contracts, path cases, studies) must name real parameters and values.
+#include <relief/core/generators.h>
 #include <relief/techniques/registry.h>
+#include <support/ray_sets.h>
 
 #include <gtest/gtest.h>
 
@@ -75,6 +77,50 @@ TEST(RegistryTest, ParamListParsing) {
     EXPECT_TRUE(parseParamList("")->empty());
     for (const char* bad : {"variant", "=1", "variant=x", "variant=1,", "a=1,,b=2"})
         EXPECT_FALSE(parseParamList(bad)) << bad;
+}
+
+}  // namespace
+}  // namespace relief
+
+namespace relief {
+namespace {
+
+// Maps record how they were built: a tracer given them takes bits (and the other build options)
+// from the file unless the caller sets them, refuses a caller's value the file contradicts, and
+// refuses a recorded value out of range (a tampered file) with the file named.
+TEST(RegistryTest, BakedMapsAreTracedAsBaked) {
+    auto hf = std::make_shared<const Heightfield>(*generateHeightfield("fbm", 48, 40, 3));
+    auto surface = std::make_shared<const Surface>(hf, 12.0f, EdgeMode::Clamp);
+    testing::RaySets sets(*surface, 11);
+    const std::vector<Ray> rays = sets.all(200);
+    for (const char* row : {"cone", "quadtree", "maxmip", "relaxed-cone"}) {
+        SCOPED_TRACE(row);
+        const TechniqueInfo& info = *findTechnique(row);
+        auto baked = bakeMaps(info, surface, {{"bits", 16}});
+        ASSERT_TRUE(baked) << baked.error().message;
+        MapFile file;
+        file.source = mapSourceOf(*surface);
+        file.techniques.push_back(*baked);
+        auto asBaked = createTracer(row, surface, {}, &file, "test.maps.exr");
+        ASSERT_TRUE(asBaked) << asBaked.error().message;
+        auto explicit16 = createTracer(row, surface, {{"bits", 16}}, &file, "test.maps.exr");
+        ASSERT_TRUE(explicit16) << explicit16.error().message;
+        std::vector<Hit> a(rays.size()), b(rays.size());
+        (*asBaked)->traceBatch(rays, a);
+        (*explicit16)->traceBatch(rays, b);
+        for (size_t k = 0; k < rays.size(); ++k) {
+            ASSERT_EQ(a[k].hit, b[k].hit) << k;
+            if (a[k].hit) ASSERT_EQ(a[k].t, b[k].t) << k;
+        }
+        auto contradicted = createTracer(row, surface, {{"bits", 8}}, &file, "test.maps.exr");
+        ASSERT_FALSE(contradicted);
+        EXPECT_NE(contradicted.error().message.find("bits"), std::string::npos);
+        file.techniques.front().parameters["bits"] = "7";
+        auto tampered = createTracer(row, surface, {}, &file, "test.maps.exr");
+        ASSERT_FALSE(tampered);
+        EXPECT_NE(tampered.error().message.find("test.maps.exr"), std::string::npos)
+            << tampered.error().message;
+    }
 }
 
 }  // namespace

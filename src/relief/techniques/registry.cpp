@@ -20,7 +20,9 @@
 #include <relief/core/check.h>
 #include <relief/sphere/sphere_reference.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 namespace relief {
 
@@ -1100,12 +1102,47 @@ Status reserveMapMemory(const TechniqueInfo& info, const Surface& surface) {
                                      surface.width(), surface.height()));
 }
 
+namespace {
+
+// What baked maps record of how they were built (bits, sqrt, builder options, variant, φ_max,
+// visibility) is taken from the file where the caller did not set it: a map baked with bits=16 is
+// traced as baked rather than refused for the default bits=32. A value the caller did set and the
+// file contradicts is still refused by the row's check. The file's values pass through
+// resolveParams like the caller's, so a tampered one out of range is refused, never used.
+std::vector<std::pair<std::string, double>> withBakedParameters(
+    const TechniqueInfo& info, const std::vector<std::pair<std::string, double>>& overrides,
+    const TechniqueMaps* baked) {
+    if (!baked) return overrides;
+    std::vector<std::pair<std::string, double>> merged;
+    for (const ParamSpec& spec : info.params) {
+        const bool recorded = spec.role == ParamRole::Encoding || spec.role == ParamRole::MapShape ||
+                              spec.role == ParamRole::Variant || spec.role == ParamRole::PhiMax ||
+                              spec.role == ParamRole::Visibility;
+        const auto found = baked->parameters.find(std::string(spec.name));
+        if (!recorded || found == baked->parameters.end()) continue;
+        if (std::any_of(overrides.begin(), overrides.end(),
+                        [&](const auto& o) { return o.first == spec.name; }))
+            continue;
+        char* end = nullptr;
+        const double value = std::strtod(found->second.c_str(), &end);
+        if (end == found->second.c_str() || *end != '\0') continue;  // not a number: the check judges it
+        merged.emplace_back(std::string(spec.name), value);
+    }
+    merged.insert(merged.end(), overrides.begin(), overrides.end());
+    return merged;
+}
+
+}  // namespace
+
 Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
                                       std::shared_ptr<const Surface> surface,
                                       const std::vector<std::pair<std::string, double>>& overrides,
                                       const MapFile* maps, std::string_view mapsPath) {
-    auto params = resolveParams(info, overrides);
-    if (!params) return params.error();
+    const TechniqueMaps* baked = maps && info.buildMaps ? maps->find(std::string(info.name)) : nullptr;
+    auto params = resolveParams(info, withBakedParameters(info, overrides, baked));
+    if (!params)
+        return baked ? makeError(params.error().kind, "{}: {}", mapsPath, params.error().message)
+                     : params.error();
     TechniqueInput input{std::move(surface), std::move(*params), nullptr};
     if (!maps && info.buildMaps)
         if (Status s = reserveMapMemory(info, *input.surface); !s) return s.error();
