@@ -1,5 +1,7 @@
 #include <relief/bench/paper_page.h>
 
+#include <relief/core/check.h>
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -59,42 +61,39 @@ std::vector<const BenchRow*> rowsAt(const std::vector<BenchRow>& rows, const std
     return selected;
 }
 
-std::string formatValue(double v, ClaimMetric metric, bool ratio) {
-    if (ratio) return fmt::format("{:.2f}×", v);
-    switch (metric) {
-        case ClaimMetric::Speed: return fmt::format("{:.3g} Mrays/s", v);
-        case ClaimMetric::Steps: return fmt::format("{:.2f} steps", v);
-        case ClaimMetric::MeanError: return fmt::format("{:.3g} texels", v);
-        case ClaimMetric::WrongPercent:
-        case ClaimMetric::PastFirstHitPercent:
-        case ClaimMetric::ShadowWrongPercent: return fmt::format("{:.2f} %", v);
-        case ClaimMetric::BuildSeconds: return fmt::format("{:.2f} s", v);
-        case ClaimMetric::ExtraSamplesPercent: return fmt::format("{:.1f} %", v);
-        case ClaimMetric::AdvancePerSample:
-        case ClaimMetric::ReversePerSample:
-        case ClaimMetric::BinaryCutsPerReverse:
-        case ClaimMetric::EvaluationsPerSample: return fmt::format("{:.3g}", v);
-    }
-    return "-";
+// How each metric reads on the page: its name in the "measured" column and its value's format.
+struct MetricText {
+    ClaimMetric metric;
+    std::string_view name, format;
+};
+constexpr MetricText kMetricTexts[] = {
+    {ClaimMetric::Speed, "speed", "{:.3g} Mrays/s"},
+    {ClaimMetric::Steps, "steps/pixel", "{:.2f} steps"},
+    {ClaimMetric::MeanError, "mean |Δt|", "{:.3g} texels"},
+    {ClaimMetric::WrongPercent, "wrong pixels", "{:.2f} %"},
+    {ClaimMetric::PastFirstHitPercent, "pixels past the first hit", "{:.2f} %"},
+    {ClaimMetric::BuildSeconds, "build s", "{:.2f} s"},
+    {ClaimMetric::ShadowWrongPercent, "pixels with a wrong shadow", "{:.2f} %"},
+    {ClaimMetric::ExtraSamplesPercent, "extra samples (% of inside)", "{:.1f} %"},
+    {ClaimMetric::AdvancePerSample, "advance steps/sample", "{:.3g}"},
+    {ClaimMetric::ReversePerSample, "reverse steps/sample", "{:.3g}"},
+    {ClaimMetric::BinaryCutsPerReverse, "binary cuts/reverse", "{:.3g}"},
+    {ClaimMetric::EvaluationsPerSample, "evaluations/sample", "{:.3g}"},
+};
+
+const MetricText& metricText(ClaimMetric metric) {
+    for (const MetricText& t : kMetricTexts)
+        if (t.metric == metric) return t;
+    RELIEF_CHECK(false && "a ClaimMetric without a row in kMetricTexts");
+    return kMetricTexts[0];
 }
 
-std::string_view metricName(ClaimMetric metric) {
-    switch (metric) {
-        case ClaimMetric::Speed: return "speed";
-        case ClaimMetric::Steps: return "steps/pixel";
-        case ClaimMetric::MeanError: return "mean |Δt|";
-        case ClaimMetric::WrongPercent: return "wrong pixels";
-        case ClaimMetric::PastFirstHitPercent: return "pixels past the first hit";
-        case ClaimMetric::BuildSeconds: return "build s";
-        case ClaimMetric::ShadowWrongPercent: return "pixels with a wrong shadow";
-        case ClaimMetric::ExtraSamplesPercent: return "extra samples (% of inside)";
-        case ClaimMetric::AdvancePerSample: return "advance steps/sample";
-        case ClaimMetric::ReversePerSample: return "reverse steps/sample";
-        case ClaimMetric::BinaryCutsPerReverse: return "binary cuts/reverse";
-        case ClaimMetric::EvaluationsPerSample: return "evaluations/sample";
-    }
-    return "";
+std::string formatValue(double v, ClaimMetric metric, bool ratio) {
+    if (ratio) return fmt::format("{:.2f}×", v);
+    return fmt::format(fmt::runtime(metricText(metric).format), v);
 }
+
+std::string_view metricName(ClaimMetric metric) { return metricText(metric).name; }
 
 std::string rangeText(const ClaimSpec& c, bool ratio) {
     const bool hasLow = c.low > -1e299, hasHigh = c.high < 1e299;

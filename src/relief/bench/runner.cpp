@@ -577,7 +577,7 @@ void runPaper(const RunOptions& o, const BenchConfig& paper) {
                                 o.preset, fmt::join(paper.parts, ", "))};
     const auto loadBefore = loadAverage();
     PartRows parts;
-    std::map<std::string, std::string> links, descriptions;
+    std::map<std::string, std::string> descriptions;
     for (const PresetEntry& p : presetList()) descriptions[p.name] = p.description;
     for (size_t k = 0; k < paper.parts.size(); ++k) {
         const std::string& part = paper.parts[k];
@@ -612,6 +612,7 @@ void runPaper(const RunOptions& o, const BenchConfig& paper) {
     auto pageWithLinksFrom = [&](const fs::path& pageFolder) {
         std::string prefix = fs::relative(fs::absolute(o.outDir), fs::absolute(pageFolder)).generic_string();
         prefix = prefix.empty() || prefix == "." ? "" : prefix + "/";
+        std::map<std::string, std::string> links;  // part → its report, relative to this page
         for (const std::string& part : paper.parts) links[part] = prefix + part + "/report.md";
         return paperMarkdown(paper, claims, meta, links, descriptions);
     };
