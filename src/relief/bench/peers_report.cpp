@@ -125,7 +125,7 @@ ReportTable bakesTable(const std::vector<const BenchRow*>& rows) {
 ReportTable targetsTable(const std::vector<const BenchRow*>& rows, const PeerIndex& peers,
                          const std::vector<PeerTarget>& targets) {
     ReportTable t{"CPU peers: targets",
-                  "Issue 21's targets from the rows above. A target \"at every view\" is judged on its worst view "
+                  "Issue 21's targets, judged from the per-view table below. A target \"at every view\" is judged on its worst view "
                   "(named), the others on the geometric mean over the views in scope; views: how many ran and how "
                   "many meet the ratio."};
     t.header = {"target", "scope", "measured", "views meeting", "verdict"};

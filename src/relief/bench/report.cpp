@@ -457,8 +457,10 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     if (!config.compare.empty())
         for (Table& t : compareTables(rows, config, meta)) tables.push_back(std::move(t));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
-    if (!config.targets.empty())
-        for (Table& t : cpuPeersTables(rows, config, meta)) tables.push_back(std::move(t));
+    if (!config.targets.empty()) {  // the page's point: first
+        std::vector<Table> peers = cpuPeersTables(rows, config, meta);
+        tables.insert(tables.begin(), std::make_move_iterator(peers.begin()), std::make_move_iterator(peers.end()));
+    }
     return tables;
 }
 
