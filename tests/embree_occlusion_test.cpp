@@ -3,16 +3,14 @@
 // rtcIntersect16 and of rtcOccluded1 but on grazing rays, ≤ 0.1%), and the reference (`exact`)
 // agrees with them (≤ 0.1% apart, the bench's --judge threshold), on ≥ 10^5 random and
 // adversarial rays and on the cpu-peers preset's shadow rays from the light.
-#include <support/ray_sets.h>
-
+#include <gtest/gtest.h>
 #include <relief/core/generators.h>
 #include <relief/embree/embree_scene.h>
 #include <relief/render/camera.h>
 #include <relief/render/compare.h>
 #include <relief/render/renderer.h>
 #include <relief/techniques/registry.h>
-
-#include <gtest/gtest.h>
+#include <support/ray_sets.h>
 
 #include <memory>
 #include <string>
@@ -23,12 +21,13 @@ namespace {
 
 std::shared_ptr<const Surface> surfaceOf(Heightfield hf) {
     const float depth = 0.25f * float(std::max(hf.width, hf.height));
-    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(hf)), depth,
-                                           EdgeMode::Clamp);
+    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(hf)),
+                                           depth, EdgeMode::Clamp);
 }
 
 std::vector<std::shared_ptr<const Surface>> surfaces() {
-    return {surfaceOf(*generateHeightfield("fbm", 160, 128, 3)), surfaceOf(*generateHeightfield("walls", 96, 96, 5))};
+    return {surfaceOf(*generateHeightfield("fbm", 160, 128, 3)),
+            surfaceOf(*generateHeightfield("walls", 96, 96, 5))};
 }
 
 std::unique_ptr<Tracer> exactTracer(std::shared_ptr<const Surface> surface) {
@@ -102,7 +101,8 @@ TEST(EmbreeOcclusion, ExactAgreesWithOcclusion) {
         std::vector<uint8_t> occluded(rays.size());
         (*scene)->occluded16(rays, occluded);
         size_t agree = 0;
-        for (size_t k = 0; k < rays.size(); ++k) agree += bool(occluded[k]) == (hits[k].hit && hits[k].t <= rays[k].tMax);
+        for (size_t k = 0; k < rays.size(); ++k)
+            agree += bool(occluded[k]) == (hits[k].hit && hits[k].t <= rays[k].tMax);
         EXPECT_GE(double(agree), 0.999 * double(rays.size())) << agree << " of " << rays.size();
     }
 }
@@ -114,14 +114,16 @@ TEST(EmbreeOcclusion, ShadowRaysFromTheLightAgreeWithExact) {
     auto scene = EmbreeScene::create(*surface);
     ASSERT_TRUE(scene) << scene.error().message;
     const std::unique_ptr<Tracer> exact = exactTracer(surface);
-    const vec3 towardsLight = glm::normalize(vec3(std::cos(glm::radians(30.0f)), 0.0f, std::sin(glm::radians(30.0f))));
+    const vec3 towardsLight =
+        glm::normalize(vec3(std::cos(glm::radians(30.0f)), 0.0f, std::sin(glm::radians(30.0f))));
     size_t lit = 0, total = 0;
     for (float elevation : {15.3f, 40.2f, 65.1f}) {
         const Camera camera(OrbitView{elevation, 30.0f, 1.0f, 45.0f}, *surface, 160, 128);
         const Image<Hit> primary = tracePrimary(camera, *exact);
         std::vector<vec3> points;
         for (const Hit& hit : primary.pixels)
-            if (hit.hit && glm::dot(surface->normalAt(hit.position), towardsLight) > 0.0f) points.push_back(hit.position);
+            if (hit.hit && glm::dot(surface->normalAt(hit.position), towardsLight) > 0.0f)
+                points.push_back(hit.position);
         const RaysFromTheLight light = raysFromTheLight(*surface, points, towardsLight);
         std::vector<Hit> hits(light.rays.size());
         traceAll(*exact, light.rays, hits);
@@ -138,7 +140,8 @@ TEST(EmbreeOcclusion, ShadowRaysFromTheLightAgreeWithExact) {
             agree += bool(exactLit[k]) != bool(one[k]);
             lit += exactLit[k];
         }
-        EXPECT_GE(double(agree), 0.999 * double(points.size())) << elevation << "°: " << agree << " of " << points.size();
+        EXPECT_GE(double(agree), 0.999 * double(points.size()))
+            << elevation << "°: " << agree << " of " << points.size();
         total += points.size();
     }
     EXPECT_GT(lit, total / 10);  // both lit and shadowed points

@@ -13,7 +13,7 @@ namespace relief::bench {
 std::string_view benchIsa();
 
 // Empty without timings (--deterministic): every number on the page is a speed.
-std::vector<ReportTable> cpuPeersTables(const std::vector<BenchRow>& rows, const BenchConfig& config,
-                                        const BenchMeta& meta);
+std::vector<ReportTable> cpuPeersTables(const std::vector<BenchRow>& rows,
+                                        const BenchConfig& config, const BenchMeta& meta);
 
 }  // namespace relief::bench
