@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates docs/benchmarks.md from a full `relief bench` run (the default preset: every
 # technique, fbm 512² and the Colorado DEM, four elevations, caps 8/24/200, Embree in the same
-# run), plus the embree-user preset's table (docs/benchmarks-embree-user.md). Raw outputs go to
+# run), plus the embree-user preset's table (docs/benchmarks-embree-user.md) and the cpu-peers
+# preset's targets (scripts/bench-cpu-peers.sh). Raw outputs go to
 # docs/bench/ and docs/bench-embree-user/ (no per-run images: they would bloat the repository).
 # Usage: scripts/bench-report.sh [extra relief bench options, e.g. --threads 2]
 set -euo pipefail
@@ -29,4 +30,6 @@ build/relief bench --preset embree-user --repeats 3 --no-images --out-dir docs/b
     echo "- [GL backend on an NVIDIA H100](benchmarks-gpu.md) (\`relief bench --preset gpu\`)"
     echo "- Per-technique studies: [quadtree](quadtree.md), [cones](cones.md), [qdm](qdm.md), [safety shapes](safety.md), [curves](curves.md)"
 } >> docs/benchmarks.md
+# Issue 21's CPU rows against Embree, primary and shadow rays; its section goes before "Other measurements".
+"$root/scripts/bench-cpu-peers.sh" "$@"
 echo "bench-report: wrote docs/benchmarks.md and docs/bench/"

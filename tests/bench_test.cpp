@@ -395,3 +395,43 @@ TEST(BenchCommand, RejectsBadOptions) {
 }
 
 }  // namespace
+
+// --preset cpu-peers (issue 21): every CPU row and both Embree peers time the view's shadow rays
+// too (the peers by occlusion queries, which find exact's shadows), safety-cc is skipped on a map
+// above 1024², and the page judges each target from the rows. Timings on: the page is speeds.
+TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
+    const fs::path out = fs::temp_directory_path() / ("relief_bench_cpu_peers_" + std::to_string(::getpid()));
+    const std::string command = std::string(RELIEF_CLI_PATH) +
+                                " bench --preset cpu-peers -t safety-cc,exact --heightfields gen:fbm:32x32:1,gen:fbm:1032x1024:1"
+                                " --size 32x32 --elevations 40.2 --repeats 1 --no-images --threads 2 --out-dir " +
+                                out.string() + " > " + out.string() + ".log 2>&1";
+    ASSERT_EQ(WEXITSTATUS(std::system(command.c_str())), 0) << readText(out.string() + ".log");
+    std::map<std::string, std::set<std::string>> rowsByMap;
+    for (const auto& r : resultRows(out)) {
+        const std::string technique = r.at("technique");
+        rowsByMap[r.at("map")].insert(technique);
+        ASSERT_TRUE(r.contains("shadow_mrays_per_s")) << technique;
+        EXPECT_GT(r.at("shadow_mrays_per_s").get<double>(), 0.0) << technique;
+        if (r.at("contract") == "exact") EXPECT_EQ(r.at("shadow_wrong_rate").get<double>(), 0.0);
+        if (r.at("contract") == "peer") EXPECT_LE(r.at("shadow_wrong_rate").get<double>(), 1e-3) << technique;
+    }
+    EXPECT_EQ(rowsByMap["fbm:32x32:1"], (std::set<std::string>{"embree-1", "embree-16", "exact", "safety-cc"}));
+    EXPECT_EQ(rowsByMap["fbm:1032x1024:1"], (std::set<std::string>{"embree-1", "embree-16", "exact"}));
+    const std::string page = readText(out / "report.md");
+    ASSERT_NE(page.find("## CPU peers: targets"), std::string::npos);
+    EXPECT_NE(page.find("ISA: baseline x86-64"), std::string::npos);
+    int judged = 0, notRun = 0;
+    std::istringstream lines(page);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("| ", 0) != 0 || line.find("≥") == std::string::npos) continue;  // a target's line
+        judged += line.ends_with("| met |") || line.ends_with("| not met |");
+        notRun += line.ends_with("| not run |");
+        // safety-cc's targets count the 32² map's view only; exact's both maps'.
+        if (line.rfind("| safety-cc", 0) == 0)
+            EXPECT_TRUE(line.find("| 1/1 |") != std::string::npos || line.find("| 0/1 |") != std::string::npos) << line;
+        if (line.rfind("| exact", 0) == 0) EXPECT_NE(line.find("/2 |"), std::string::npos) << line;
+    }
+    EXPECT_EQ(judged, 4);  // safety-cc and exact, primary and shadow
+    EXPECT_EQ(notRun, 4);  // quadtree and cone: not among the rows
+    fs::remove_all(out);
+}

@@ -93,6 +93,23 @@ PeerResult EmbreePeer::run(PeerKind kind, const Camera& camera, int repeats) con
     return result;
 }
 
+OcclusionResult EmbreePeer::occluded(PeerKind kind, std::span<const Ray> rays, int repeats) const {
+    RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);
+    const EmbreeScene& scene = *m_scene->scene;
+    constexpr size_t kBatch = 256;  // as run(): 16 packets of 16 per parallel task
+    OcclusionResult result;
+    result.occluded.assign(rays.size(), 0);
+    result.seconds = bestOf(repeats, [&] {
+        parallelRanges(int64_t((rays.size() + kBatch - 1) / kBatch), 1, [&](int64_t begin, int64_t end) {
+            const size_t first = size_t(begin) * kBatch, last = std::min(rays.size(), size_t(end) * kBatch);
+            auto in = rays.subspan(first, last - first);
+            auto out = std::span(result.occluded).subspan(first, last - first);
+            kind == PeerKind::Embree16 ? scene.occluded16(in, out) : scene.occluded1(in, out);
+        });
+    });
+    return result;
+}
+
 Result<PeerResult> runMeshPeer(const Surface& surface, const Camera& camera, int frames) {
     auto timing = timeRasterizedMesh(surface, gl::cameraUniforms(camera), {frames, 2});
     if (!timing) return timing.error();

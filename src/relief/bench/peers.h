@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace relief::bench {
 
@@ -38,6 +39,11 @@ struct PeerResult {
     std::string glDevice;  // GL only
 };
 
+struct OcclusionResult {
+    std::vector<uint8_t> occluded;
+    double seconds = 0;
+};
+
 // The Embree scene of a surface, built once per heightfield (clamp edges only): its triangles, or
 // the heightfield as a user geometry over a row's tracer (BenchConfig::userGeometry).
 class EmbreePeer {
@@ -50,6 +56,9 @@ public:
     // Bytes Embree's device holds for the scene (BVH, buffers), counted by its memory monitor.
     int64_t embreeBytes() const;
     PeerResult run(PeerKind kind, const Camera& camera, int repeats) const;
+    // Occlusion queries (rtcOccluded1 for Embree1, rtcOccluded16 on consecutive groups of 16 for
+    // Embree16) on `rays` as given, each on [0, tMax]: occluded flags, best of the repeats.
+    OcclusionResult occluded(PeerKind kind, std::span<const Ray> rays, int repeats) const;
 
 private:
     EmbreePeer() = default;

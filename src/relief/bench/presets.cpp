@@ -81,12 +81,37 @@ BenchConfig embreeUser() {
     return c;
 }
 
+// Issue 21: the CPU tracers against Embree on the same primary and shadow rays (light at 30°),
+// fbm and an SRTM window (the Himalaya, as cones-quality) at 1024² and 4096². safety-cc and qdm
+// only at 1024²: their 4096² bakes take minutes.
+BenchConfig cpuPeers() {
+    constexpr int64_t k1024 = 1024 * 1024;
+    BenchConfig c;
+    c.maps = {"gen:fbm:1024x1024:1", "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,1024,1024",
+              "gen:fbm:4096x4096:1", "../shared/data/earth-srtm-10800x5400.png@centre=7980,1860,4096,4096"};
+    c.techniques = {"quadtree", "maxmip", "cone", "safety-cc", "exact", "qdm"};
+    c.elevations = {15.3f, 40.2f, 65.1f};
+    c.shadowElevation = 30.0f;
+    c.shadowTiming = true;
+    c.rowMaxSamples = {{"safety-cc", k1024}, {"qdm", k1024}};
+    // The issue's shadow targets are "the same ratios against rtcOccluded16", exact's included.
+    for (bool shadow : {false, true}) {
+        c.targets.push_back({"quadtree", "embree-16", 2.0, shadow, 0, true});
+        c.targets.push_back({"safety-cc", "embree-16", 1.5, shadow, k1024, false});
+        c.targets.push_back({"cone", "embree-16", 1.5, shadow, 0, false});
+        c.targets.push_back({"exact", shadow ? "embree-16" : "embree-1", 1.0, shadow, 0, false});
+    }
+    return c;
+}
+
 const GlobalPreset kGlobalPresets[] = {
     {"quick", "tiny maps, for CI", quick},
     {"default", "fbm 512² and the Colorado DEM, four elevations", standard},
     {"gpu", "GL backend: 1920×1088, 1024² maps, standard elevations, with the rasterized mesh", gpu},
     {"embree-user", "exact and maxmip as Embree user geometries vs the triangles: Mrays/s and bytes/texel, 1024², 4096²",
      embreeUser},
+    {"cpu-peers", "CPU rows vs Embree rtcIntersect1/16 and rtcOccluded1/16 (shadows), fbm and SRTM 1024², 4096²: issue 21's targets",
+     cpuPeers},
 };
 
 std::vector<std::string> strings(std::span<const std::string_view> views) {
@@ -346,7 +371,11 @@ Status applyOverrides(BenchConfig& c, const BenchOverrides& o) {
     }
     if (o.quick && o.smoke) return makeError(ErrorKind::BadArgument, "--quick and --smoke: choose one");
     if (o.quick) {
-        for (std::string& m : c.maps) m = quickMap(m);
+        // Maps that shrink to the same one (fbm 1024² and 4096²) are run once.
+        std::vector<std::string> maps;
+        for (const std::string& m : c.maps)
+            if (std::find(maps.begin(), maps.end(), quickMap(m)) == maps.end()) maps.push_back(quickMap(m));
+        c.maps = maps;
         if (!c.sizes.empty()) {
             std::vector<int> sizes;
             for (int n : c.sizes)

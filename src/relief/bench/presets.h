@@ -21,6 +21,17 @@ struct PaperRatio {
     std::string backend = "cpu";
 };
 
+// One of issue 21's speed targets (the cpu-peers page): a row's Mrays/s over a CPU peer's on the
+// same rays, primary or shadow (the peer's occlusion query: embree-1 → rtcOccluded1, embree-16 →
+// rtcOccluded16), at least `ratio` on every view of the maps in scope, or as a geometric mean.
+struct PeerTarget {
+    std::string row, peer;
+    double ratio = 1;
+    bool shadow = false;
+    int64_t maxSamples = 0;  // the maps in scope: at most this many samples (0 = every map)
+    bool everyView = false;  // each view must meet it (else the geometric mean over the views)
+};
+
 struct BenchConfig {
     std::string name;  // the preset
     StudyKind kind = StudyKind::Views;
@@ -50,6 +61,13 @@ struct BenchConfig {
     bool userGeometry = false;
     // StudyKind::Paper: the studies it runs, in order, and the claims it judges from their rows.
     float shadowElevation = 0.0f;  // StudySpec::shadowElevation
+    // With shadowElevation: also time the shadow rays, each CPU row tracing them from the light
+    // (the shadow rays of every row), the Embree peers answering occlusion queries on the same
+    // segments (rtcOccluded1, rtcOccluded16 on 4×4 tiles of pixels).
+    bool shadowTiming = false;
+    // Rows skipped on maps of more samples than given (row label, samples): bakes too slow there.
+    std::vector<std::pair<std::string, int64_t>> rowMaxSamples;
+    std::vector<PeerTarget> targets;  // non-empty: the report's cpu-peers tables (bench/peers_report.h)
     std::vector<std::string> parts;
     std::span<const ClaimSpec> claims;
     std::string paperFile;

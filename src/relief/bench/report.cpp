@@ -1,6 +1,7 @@
 #include <relief/bench/report.h>
 
 #include <relief/bench/peers.h>
+#include <relief/bench/peers_report.h>
 #include <relief/bench/svg_plot.h>
 #include <relief/techniques/registry.h>
 
@@ -18,13 +19,7 @@ namespace relief::bench {
 
 namespace {
 
-// A table both writers render, so that the Markdown and the HTML report cannot disagree.
-struct Table {
-    Table(std::string titleText, std::string captionText) : title(std::move(titleText)), caption(std::move(captionText)) {}
-    std::string title, caption;
-    std::vector<std::string> header;
-    std::vector<std::vector<std::string>> rows;
-};
+using Table = ReportTable;
 
 std::string formatRatio(double r) { return r > 0 ? fmt::format("{:.2f}×", r) : "-"; }
 
@@ -55,21 +50,6 @@ const BenchRow* findRow(const std::vector<const BenchRow*>& rows, const BenchRow
         if (r->technique == technique && sameView(*r, view)) return r;
     return nullptr;
 }
-
-// Geometric mean of positive ratios; 0 when there are none.
-class RatioMean {
-public:
-    void add(double numerator, double denominator) {
-        if (numerator <= 0 || denominator <= 0) return;
-        m_logSum += std::log(numerator / denominator);
-        ++m_count;
-    }
-    double value() const { return m_count ? std::exp(m_logSum / m_count) : 0.0; }
-
-private:
-    double m_logSum = 0;
-    int m_count = 0;
-};
 
 std::string referenceName() { return std::string(referenceTechnique().name); }
 
@@ -477,6 +457,10 @@ std::vector<Table> reportTables(const std::vector<BenchRow>& rows, const BenchCo
     if (!config.compare.empty())
         for (Table& t : compareTables(rows, config, meta)) tables.push_back(std::move(t));
     if (!config.paperNotes.empty() || !config.paperRatios.empty()) tables.push_back(paperTable(rows, config));
+    if (!config.targets.empty()) {  // the page's point: first
+        std::vector<Table> peers = cpuPeersTables(rows, config, meta);
+        tables.insert(tables.begin(), std::make_move_iterator(peers.begin()), std::make_move_iterator(peers.end()));
+    }
     return tables;
 }
 
@@ -598,6 +582,7 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
         j["ms_per_frame"] = r.msPerFrame;
         j["build_seconds"] = r.buildSeconds;
         j["build_cpu_seconds"] = r.buildCpuSeconds;
+        if (r.shadowMraysPerSecond > 0) j["shadow_mrays_per_s"] = r.shadowMraysPerSecond;
     }
     if (r.curves) {
         const curves::StepCounts& c = r.curves->counts;

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -31,6 +32,7 @@ struct BenchRow {
     float elevation = 0;
     int cap = 0;  // 0 = the technique's default / none
     ErrorStats stats;
+    double shadowMraysPerSecond = 0;  // BenchConfig::shadowTiming: the shadow rays (0: not timed)
     double shadowWrongRate = -1;  // StudySpec::shadowElevation: pixels with the wrong shadow / pixels; < 0: not run
     double agreeRate = 0;  // pixels with the reference's hit/miss and |Δt| <= 1e-3 texel (the exact contract)
     Summary boxSteps;      // steps over the rays that enter the relief's box
@@ -39,6 +41,31 @@ struct BenchRow {
     std::string images;  // file prefix relative to the output folder, empty if none
     std::optional<CurvesFigures> curves;
     std::vector<std::pair<std::string, double>> mapSummary;  // the row's TechniqueInfo::mapSummary of its maps
+};
+
+// Geometric mean of positive ratios; 0 when there are none.
+class RatioMean {
+public:
+    void add(double numerator, double denominator) {
+        if (numerator <= 0 || denominator <= 0) return;
+        m_logSum += std::log(numerator / denominator);
+        ++m_count;
+    }
+    double value() const { return m_count ? std::exp(m_logSum / m_count) : 0.0; }
+    int count() const { return m_count; }
+
+private:
+    double m_logSum = 0;
+    int m_count = 0;
+};
+
+// A table both writers render (report.md and index.html), so that they cannot disagree.
+struct ReportTable {
+    ReportTable(std::string titleText, std::string captionText)
+        : title(std::move(titleText)), caption(std::move(captionText)) {}
+    std::string title, caption;
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
 };
 
 struct BenchMeta {

@@ -162,6 +162,7 @@ Result<std::vector<Overrides>> globalOverrides(const RunOptions& o, const std::v
 // and backends.
 struct PreparedRow {
     const RowSpec* spec = nullptr;
+    bool skipped = false;  // BenchConfig::rowMaxSamples: not run on this heightfield
     Overrides overrides;
     std::optional<TechniqueMaps> built;
     const TechniqueMaps* maps = nullptr;
@@ -225,7 +226,9 @@ private:
             row.spec = &m_specs[k];
             row.overrides = m_overrides[k];
             const TechniqueInfo& info = *row.spec->info;
-            if (!info.buildMaps) continue;
+            for (const auto& [label, samples] : m_config.rowMaxSamples)
+                row.skipped |= label == row.spec->label && int64_t(surface->heightfield().sampleCount()) > samples;
+            if (!info.buildMaps || row.skipped) continue;
             if (mapFile) {
                 row.maps = orFail(techniqueInput(info, surface, row.overrides, mapFile, m_o.mapsPath)).maps;
             } else {
@@ -268,7 +271,7 @@ private:
 
     void recordBuilds(const std::string& map, const std::vector<PreparedRow>& rows, Progress& progress) {
         for (const PreparedRow& row : rows) {
-            if (!row.maps) continue;
+            if (!row.maps || row.skipped) continue;
             const ParamValues params = orFail(resolveParams(*row.spec->info, row.overrides));
             m_rows.push_back(newRow(row, map, "cpu", 0.0f, 0, params));
             if (auto summary = row.spec->info->mapSummary) m_rows.back().mapSummary = summary(*row.maps);
@@ -286,11 +289,12 @@ private:
             OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
             const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
             const Image<Hit> referenceHits = tracePrimary(camera, *reference);
-            if (m_config.shadowElevation > 0.0f) prepareShadows(*surface, referenceHits, *reference);
+            if (m_config.shadowElevation > 0.0f) prepareShadows(*surface, camera, referenceHits, *reference);
             m_inBox.clear();
             for (const Ray& ray : primaryRays(camera)) m_inBox.push_back(!surface->clip(ray).empty());
             if (embree) runEmbree(label, elevation, camera, *embree, referenceHits);
             for (PreparedRow& row : rows) {
+                if (row.skipped) continue;
                 const std::vector<int> caps = capsOf(*row.spec->info);
                 for (int cap : caps) {
                     const bool images = !m_o.noImages && cap == caps.back();
@@ -307,16 +311,33 @@ private:
         }
     }
 
-    // StudySpec::shadowElevation: the reference's primary hits that face the light, and whether
-    // the reference finds each lit (traced from the light, as every row's shadow test is).
-    void prepareShadows(const Surface& surface, const Image<Hit>& referenceHits, const Tracer& reference) {
+    // StudySpec::shadowElevation: the reference's primary hits that face the light, in the 4×4
+    // tiles of the Embree packets (coherent shadow rays for every row and peer), and whether the
+    // reference finds each lit (traced from the light, as every row's shadow test is). With
+    // shadowTiming, the rays themselves, and their segments up to the point for Embree's
+    // occlusion queries (litFromHits' verdict as an any-hit query).
+    void prepareShadows(const Surface& surface, const Camera& camera, const Image<Hit>& referenceHits,
+                        const Tracer& reference) {
         const float e = glm::radians(m_config.shadowElevation), a = glm::radians(kShadowLightAzimuth);
         m_towardsLight = vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
         m_shadowPoints.clear();
-        for (const Hit& hit : referenceHits.pixels)
+        for (size_t pixel : packetOrder(camera.width(), camera.height())) {
+            const Hit& hit = referenceHits.pixels[pixel];
             if (hit.hit && glm::dot(surface.normalAt(hit.position), m_towardsLight) > 0.0f)
                 m_shadowPoints.push_back(hit.position);
+        }
         m_referenceLit = litFromTheLight(surface, m_shadowPoints, reference, m_towardsLight);
+        if (!m_config.shadowTiming) return;
+        m_lightRays = raysFromTheLight(surface, m_shadowPoints, m_towardsLight);
+        m_occlusionRays = m_lightRays.rays;
+        for (size_t k = 0; k < m_occlusionRays.size(); ++k)
+            m_occlusionRays[k].tMax = std::max(0.0f, m_lightRays.lengths[k] - kWrongHitDistance);
+    }
+
+    double shadowWrongRate(std::span<const uint8_t> lit, size_t pixels) const {
+        size_t wrong = 0;
+        for (size_t k = 0; k < lit.size(); ++k) wrong += lit[k] != m_referenceLit[k];
+        return double(wrong) / double(std::max<size_t>(1, pixels));
     }
 
     bool wants(const std::string& backend) const {
@@ -385,11 +406,15 @@ private:
         agreement(r, hits, reference, m_inBox);
         r.mraysPerSecond = double(hits.pixels.size()) / seconds / 1e6;
         r.msPerFrame = 1000.0 * seconds;
-        if (m_config.shadowElevation > 0.0f) {
-            const std::vector<uint8_t> lit = litFromTheLight(*surface, m_shadowPoints, *tracer, m_towardsLight);
-            size_t wrong = 0;
-            for (size_t k = 0; k < lit.size(); ++k) wrong += lit[k] != m_referenceLit[k];
-            r.shadowWrongRate = double(wrong) / double(std::max<size_t>(1, hits.pixels.size()));
+        if (m_config.shadowElevation > 0.0f && m_config.shadowTiming) {
+            std::vector<Hit> shadowHits(m_lightRays.rays.size());
+            const double shadowSeconds =
+                bestOf(m_config.repeats, [&] { traceAll(*tracer, m_lightRays.rays, shadowHits); });
+            r.shadowMraysPerSecond = double(shadowHits.size()) / shadowSeconds / 1e6;
+            r.shadowWrongRate = shadowWrongRate(litFromHits(m_lightRays, shadowHits), hits.pixels.size());
+        } else if (m_config.shadowElevation > 0.0f) {
+            r.shadowWrongRate = shadowWrongRate(litFromTheLight(*surface, m_shadowPoints, *tracer, m_towardsLight),
+                                                hits.pixels.size());
         }
         if (images) {
             r.images = fmt::format("images/{}_{}_e{:.1f}", slug(map), slug(r.technique), elevation);
@@ -484,6 +509,13 @@ private:
             BenchRow r = peerRow(peer, map, elevation);
             measurePeer(r, embree.run(peer.kind, camera, m_config.repeats), reference);
             r.buildSeconds = embree.buildSeconds();
+            if (m_config.shadowElevation > 0.0f && m_config.shadowTiming) {
+                const OcclusionResult shadows = embree.occluded(peer.kind, m_occlusionRays, m_config.repeats);
+                std::vector<uint8_t> lit(shadows.occluded.size());
+                for (size_t k = 0; k < lit.size(); ++k) lit[k] = !shadows.occluded[k];
+                r.shadowMraysPerSecond = double(lit.size()) / shadows.seconds / 1e6;
+                r.shadowWrongRate = shadowWrongRate(lit, r.stats.pixels);
+            }
             if (m_config.userGeometry) r.bytesPerTexel = double(embree.embreeBytes()) / double(m_mapSamples);
             m_rows.push_back(std::move(r));
         }
@@ -561,6 +593,8 @@ private:
     vec3 m_towardsLight{0, 0, 1};
     std::vector<vec3> m_shadowPoints;    // the current view's shadow test points
     std::vector<uint8_t> m_referenceLit;  // the reference's verdict on each
+    RaysFromTheLight m_lightRays;          // shadowTiming: the rows' shadow rays
+    std::vector<Ray> m_occlusionRays;      // the same rays ending before their points, for Embree
     int64_t m_mapSamples = 0;
 };
 

@@ -160,56 +160,95 @@ Hit hitFrom(const Ray& ray, float tfar, unsigned geomID) {
     hit.position = ray.at(tfar);
     return hit;
 }
+
+// One ray as Embree's [0, tMax] segment; shared by the intersection and occlusion queries.
+RTCRay embreeRay(const Ray& r) {
+    RTCRay ray;
+    ray.org_x = r.origin.x; ray.org_y = r.origin.y; ray.org_z = r.origin.z;
+    ray.dir_x = r.direction.x; ray.dir_y = r.direction.y; ray.dir_z = r.direction.z;
+    ray.tnear = 0.0f;
+    ray.tfar = r.tMax;
+    ray.time = 0.0f;
+    ray.mask = 0xFFFFFFFFu;
+    ray.id = 0;
+    ray.flags = 0;
+    return ray;
+}
+
+// rays[first, first + n) into lanes 0..n-1 of a packet, the last ray repeated in the invalid lanes.
+void fillPacket(RTCRay16& packet, int (&valid)[16], std::span<const Ray> rays, size_t first, size_t n) {
+    for (size_t k = 0; k < 16; ++k) {
+        valid[k] = k < n ? -1 : 0;
+        const RTCRay r = embreeRay(rays[first + std::min(k, n - 1)]);
+        packet.org_x[k] = r.org_x; packet.org_y[k] = r.org_y; packet.org_z[k] = r.org_z;
+        packet.dir_x[k] = r.dir_x; packet.dir_y[k] = r.dir_y; packet.dir_z[k] = r.dir_z;
+        packet.tnear[k] = r.tnear;
+        packet.tfar[k] = r.tfar;
+        packet.time[k] = r.time;
+        packet.mask[k] = r.mask;
+        packet.id[k] = unsigned(k);
+        packet.flags[k] = r.flags;
+    }
+}
+
+RTCIntersectContext coherentContext() {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    return context;
+}
 }  // namespace
 
 void EmbreeScene::intersect1(std::span<const Ray> rays, std::span<Hit> hits) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    RTCScene scene = m_scene;
     for (size_t k = 0; k < rays.size(); ++k) {
-        const Ray& r = rays[k];
         RTCRayHit rh;
-        rh.ray.org_x = r.origin.x; rh.ray.org_y = r.origin.y; rh.ray.org_z = r.origin.z;
-        rh.ray.dir_x = r.direction.x; rh.ray.dir_y = r.direction.y; rh.ray.dir_z = r.direction.z;
-        rh.ray.tnear = 0.0f;
-        rh.ray.tfar = r.tMax;
-        rh.ray.time = 0.0f;
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.id = 0;
-        rh.ray.flags = 0;
+        rh.ray = embreeRay(rays[k]);
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene, &context, &rh);
-        hits[k] = hitFrom(r, rh.ray.tfar, rh.hit.geomID);
+        rtcIntersect1(m_scene, &context, &rh);
+        hits[k] = hitFrom(rays[k], rh.ray.tfar, rh.hit.geomID);
     }
 }
 
 void EmbreeScene::intersect16(std::span<const Ray> rays, std::span<Hit> hits) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    RTCScene scene = m_scene;
+    RTCIntersectContext context = coherentContext();
     for (size_t first = 0; first < rays.size(); first += 16) {
         const size_t n = std::min<size_t>(16, rays.size() - first);
         alignas(64) int valid[16];
         alignas(64) RTCRayHit16 rh;
+        fillPacket(rh.ray, valid, rays, first, n);
         for (size_t k = 0; k < 16; ++k) {
-            valid[k] = k < n ? -1 : 0;
-            const Ray& r = rays[first + std::min(k, n - 1)];
-            rh.ray.org_x[k] = r.origin.x; rh.ray.org_y[k] = r.origin.y; rh.ray.org_z[k] = r.origin.z;
-            rh.ray.dir_x[k] = r.direction.x; rh.ray.dir_y[k] = r.direction.y; rh.ray.dir_z[k] = r.direction.z;
-            rh.ray.tnear[k] = 0.0f;
-            rh.ray.tfar[k] = r.tMax;
-            rh.ray.time[k] = 0.0f;
-            rh.ray.mask[k] = 0xFFFFFFFFu;
-            rh.ray.id[k] = unsigned(k);
-            rh.ray.flags[k] = 0;
             rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
             rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
         }
-        rtcIntersect16(valid, scene, &context, &rh);
+        rtcIntersect16(valid, m_scene, &context, &rh);
         for (size_t k = 0; k < n; ++k)
             hits[first + k] = hitFrom(rays[first + k], rh.ray.tfar[k], rh.hit.geomID[k]);
+    }
+}
+
+// Embree marks an occluded ray by setting its tfar to -inf.
+void EmbreeScene::occluded1(std::span<const Ray> rays, std::span<uint8_t> occluded) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t k = 0; k < rays.size(); ++k) {
+        RTCRay ray = embreeRay(rays[k]);
+        rtcOccluded1(m_scene, &context, &ray);
+        occluded[k] = ray.tfar < 0.0f;
+    }
+}
+
+void EmbreeScene::occluded16(std::span<const Ray> rays, std::span<uint8_t> occluded) const {
+    RTCIntersectContext context = coherentContext();
+    for (size_t first = 0; first < rays.size(); first += 16) {
+        const size_t n = std::min<size_t>(16, rays.size() - first);
+        alignas(64) int valid[16];
+        alignas(64) RTCRay16 ray;
+        fillPacket(ray, valid, rays, first, n);
+        rtcOccluded16(valid, m_scene, &context, &ray);
+        for (size_t k = 0; k < n; ++k) occluded[first + k] = ray.tfar[k] < 0.0f;
     }
 }
 

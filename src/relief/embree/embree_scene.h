@@ -59,6 +59,10 @@ public:
     void intersect1(std::span<const Ray> rays, std::span<Hit> hits) const;
     // rtcIntersect16 on consecutive groups of 16 rays (the caller orders them as 4×4 tiles).
     void intersect16(std::span<const Ray> rays, std::span<Hit> hits) const;
+    // Occlusion queries on [0, ray.tMax] (rtcOccluded1; rtcOccluded16 on groups of 16 as
+    // intersect16): occluded[k] = 1 when anything lies on ray k's segment.
+    void occluded1(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
+    void occluded16(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
     size_t triangleCount() const { return m_triangleCount; }
     // Bytes the scene's device held after the build (BVH + buffers), by its memory monitor.
     int64_t embreeBytes() const { return m_builtBytes; }

@@ -180,25 +180,33 @@ Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seco
     return hits;
 }
 
-std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
-                                     const vec3& towardsLight) {
+RaysFromTheLight raysFromTheLight(const Surface& surface, std::span<const vec3> points, const vec3& towardsLight) {
     const float top = surface.depth() + 1.0f;  // above the relief's box
-    std::vector<Ray> rays;
-    std::vector<float> lengths;
-    rays.reserve(points.size());
-    lengths.reserve(points.size());
+    RaysFromTheLight light;
+    light.rays.reserve(points.size());
+    light.lengths.reserve(points.size());
     for (const vec3& point : points) {
         const vec3 p = liftedOffS(surface, point);
         const float length = towardsLight.z > 0.0f ? std::max(0.0f, (top - p.z) / towardsLight.z) : 0.0f;
-        rays.push_back(Ray{p + length * towardsLight, -towardsLight, kInfinity});
-        lengths.push_back(length);
+        light.rays.push_back(Ray{p + length * towardsLight, -towardsLight, kInfinity});
+        light.lengths.push_back(length);
     }
-    std::vector<Hit> hits(rays.size());
-    traceAll(tracer, rays, hits);
-    std::vector<uint8_t> lit(points.size());
-    for (size_t k = 0; k < points.size(); ++k)
-        lit[k] = !hits[k].hit || hits[k].t >= lengths[k] - kWrongHitDistance;
+    return light;
+}
+
+std::vector<uint8_t> litFromHits(const RaysFromTheLight& light, std::span<const Hit> hits) {
+    std::vector<uint8_t> lit(light.rays.size());
+    for (size_t k = 0; k < lit.size(); ++k)
+        lit[k] = !hits[k].hit || hits[k].t >= light.lengths[k] - kWrongHitDistance;
     return lit;
+}
+
+std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
+                                     const vec3& towardsLight) {
+    const RaysFromTheLight light = raysFromTheLight(surface, points, towardsLight);
+    std::vector<Hit> hits(light.rays.size());
+    traceAll(tracer, light.rays, hits);
+    return litFromHits(light, hits);
 }
 
 RenderResult render(const Surface& surface, const Camera& camera, const Tracer& tracer,

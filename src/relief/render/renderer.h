@@ -53,6 +53,15 @@ int64_t renderPeakBytes(int64_t pixels, bool shadows);
 // are) or there is none.
 std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
                                      const vec3& towardsLight);
+// litFromTheLight in two halves, for timing the shadow rays alone (the bench against Embree's
+// occlusion queries): the rays from the light (tMax infinite) with the length from each ray's
+// origin to its lifted point, and the verdict from their hits.
+struct RaysFromTheLight {
+    std::vector<Ray> rays;
+    std::vector<float> lengths;
+};
+RaysFromTheLight raysFromTheLight(const Surface& surface, std::span<const vec3> points, const vec3& towardsLight);
+std::vector<uint8_t> litFromHits(const RaysFromTheLight& light, std::span<const Hit> hits);
 
 // Traces the primary rays only (no shading), in tiles, in parallel.
 Image<Hit> tracePrimary(const Camera& camera, const Tracer& tracer, double* seconds = nullptr);
