@@ -46,7 +46,10 @@ const CliCase kCases[] = {
     {"info real map", "info {src}/data/colorado-elevation-400.png", 0, "400x400", ""},
     {"render", "render gen:peaks6:32x32 --size 40x30 -o {tmp}/r.png --deterministic", 0, "| exact | exact |", ""},
     {"render all", "render gen:walls:24x24 -t all --size 32x24 --out-dir {tmp}/all --format json --deterministic", 0, "\"technique\": \"parallax\"", ""},
-    {"version", "--version", 0, "relief", ""},
+    {"version", "--version", 0, "(tracer ISA: ", ""},
+    {"isa baseline", "trace gen:peaks6:32x32 --isa baseline --rays {tmp}/rays.csv", 0, "hit,t,x,y,z,steps,fetches\n1,", ""},
+    {"isa auto", "trace gen:peaks6:32x32 --isa auto --rays {tmp}/rays.csv", 0, "hit,t,x,y,z,steps,fetches\n1,", ""},
+    {"info isa", "info gen:fbm:40x30", 0, "tracer ISA: ", ""},
     {"phi-max warning", "render gen:fbm:32x32 -t safety-cc --param phi-max=-45 --size 32x24 --elevation 30 -o {tmp}/w.png --deterministic", 0, "| safety-cc | exact |", "outside the maps' viewing-angle restriction"},
     // The visibility-curve renderer and the sphere take the one render path.
     {"render curves", "render gen:sine:32x32 -t curves --size 40x30 -o {tmp}/c.png --depth-out {tmp}/c.exr --deterministic", 0, "| curves | 2 | 0.05 |", ""},
@@ -59,6 +62,7 @@ const CliCase kCases[] = {
     {"stale maps refused", "trace gen:fbm:24x24:9 -t cone --maps {tmp}/m.exr --rays {tmp}/rays.csv", 3, "", "stale maps"},
     // Bad arguments: exit 1.
     {"unknown technique", "trace gen:flat:8x8 -t nope --rays {tmp}/rays.csv", 1, "", "unknown technique 'nope'"},
+    {"unknown isa", "trace gen:flat:8x8 --isa avx9 --rays {tmp}/rays.csv", 1, "", "unknown ISA 'avx9'"},
     {"unknown option", "trace gen:flat:8x8 --frobnicate --rays {tmp}/rays.csv", 1, "", "relief: error:"},
     {"no command", "", 1, "", "relief: error:"},
     {"unknown generator", "info gen:mountains:8x8", 1, "", "unknown generator 'mountains'"},

@@ -44,6 +44,7 @@ void addBenchCommand(CLI::App& app) {
     cmd->add_flag("--deterministic", o->deterministic, "leave timings out of the outputs");
     cmd->add_flag("--judge", o->judge, "fail (exit 4) when an exact row or a CPU peer disagrees with the reference");
     addThreadsOption(*cmd, o->threads);
+    addIsaOption(*cmd);
     cmd->callback([o, list] {
         if (*list) {
             std::cout << bench::presetTable();

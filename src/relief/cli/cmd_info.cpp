@@ -1,5 +1,6 @@
 // relief info HEIGHTFIELD: size, value range, histogram summary, a suggested depth.
 #include <relief/cli/common.h>
+#include <relief/core/isa.h>
 #include <relief/core/memory_budget.h>
 #include <relief/core/progress.h>
 #include <relief/core/stats.h>
@@ -59,7 +60,8 @@ void runInfo(const InfoOptions& o) {
                                     {"histogram", histogram},
                                     {"depth_default", defaultDepth},
                                     {"depth_slope_limited", slopeDepth},
-                                    {"hash", fmt::format("{:016x}", hf->contentHash())}}
+                                    {"hash", fmt::format("{:016x}", hf->contentHash())},
+                                    {"tracer_isa", tracerIsa()}}
                          .dump(2)
                   << "\n";
         return;
@@ -73,8 +75,8 @@ void runInfo(const InfoOptions& o) {
         std::cout << fmt::format(" {:.1f}%", 100.0 * double(count) / double(values.size()));
     std::cout << fmt::format(
         "\nsuggested depth: --depth {:.1f} (default --depth-ratio 0.1); {:.1f} keeps 95% of "
-        "texel slopes under 45 degrees\nsource hash: {:016x}\n",
-        defaultDepth, slopeDepth, hf->contentHash());
+        "texel slopes under 45 degrees\nsource hash: {:016x}\ntracer ISA: {} (RELIEF_ISA or --isa on trace and bench)\n",
+        defaultDepth, slopeDepth, hf->contentHash(), tracerIsa());
 }
 
 }  // namespace

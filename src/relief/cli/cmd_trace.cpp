@@ -51,6 +51,7 @@ void addTraceCommand(CLI::App& app) {
     cmd->add_option("-o,--output", o->output, "hit file: .csv or .npy ('-' = CSV on stdout)")
         ->capture_default_str();
     addThreadsOption(*cmd, o->threads);
+    addIsaOption(*cmd);
     cmd->callback([o] { runTrace(*o); });
 }
 

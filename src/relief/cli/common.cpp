@@ -1,5 +1,6 @@
 #include <relief/cli/common.h>
 
+#include <relief/core/isa.h>
 #include <relief/core/memory_budget.h>
 #include <relief/core/parallel.h>
 #include <relief/techniques/registry.h>
@@ -90,6 +91,21 @@ void addRoleOptions(CLI::App& app, TechniqueOptions& o) {
 void addThreadsOption(CLI::App& app, int& threads) {
     app.add_option("--threads", threads, "worker threads (0 = all cores)")
         ->check(CLI::Range(0, kMaxThreads))->capture_default_str();
+}
+
+void addIsaOption(CLI::App& app) {
+    // Set as it is parsed, process-wide, like --max-memory.
+    app.add_option_function<std::string>(
+           "--isa", [](const std::string& text) { (void)setTracerIsa(*parseIsa(text)); },
+           fmt::format("instruction set of the CPU tracers: baseline, sse4, avx2 or auto (default: "
+                       "RELIEF_ISA, else auto = {} here)",
+                       toString(bestSupportedIsa())))
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                auto parsed = parseIsa(text);
+                return parsed ? std::string() : parsed.error().message;
+            },
+            "ISA"));
 }
 
 void addViewOptions(CLI::App& app, OrbitView& view, const CameraLimits& limits) {

@@ -40,6 +40,8 @@ void addSurfaceOptions(CLI::App& app, SurfaceOptions& options);
 void addMemoryOption(CLI::App& app);
 void addTechniqueOptions(CLI::App& app, TechniqueOptions& options);
 void addThreadsOption(CLI::App& app, int& threads);
+// --isa baseline|sse4|avx2|auto: the tracers' ISA for this run (core/isa.h; default RELIEF_ISA).
+void addIsaOption(CLI::App& app);
 
 // The orbit camera and the light, as render and view take them; the viewer narrows the ranges
 // (CameraLimits: render/camera.h).

@@ -1,5 +1,6 @@
 // relief <command> [options]: the command table. Each command lives in cmd_<name>.cpp.
 #include <relief/cli/common.h>
+#include <relief/core/isa.h>
 #include <relief/core/memory_budget.h>
 #include <relief/core/progress.h>
 #include <relief/io/output.h>
@@ -15,7 +16,8 @@ namespace relief::cli {
 
 void addCommands(CLI::App& app) {
     app.require_subcommand(1);
-    app.set_version_flag("--version", std::string("relief ") + RELIEF_VERSION);
+    app.set_version_flag("--version", std::string("relief ") + RELIEF_VERSION + " (tracer ISA: " +
+                                          std::string(tracerIsa()) + ")");
     // A flag callback rather than a bound variable: nothing outlives the app (fuzz_cli replaces
     // the app's parse-complete callback).
     app.add_flag_callback("-q,--quiet", [] { relief::Progress::setQuiet(true); }, "no progress output")
@@ -38,6 +40,8 @@ namespace relief::cli {
 int runCommandLine(int argc, char** argv) {
     CLI::App app{"relief: heightfield ray casting, the published methods side by side"};
     setMemoryBudget(defaultMemoryBudget());  // a previous command line in this process may have set it
+    // A bad RELIEF_ISA is an error like a bad option, before anything runs (core/isa.h).
+    if (const Status isa = checkIsaEnvironment(); !isa) return report(isa.error());
     addCommands(app);
     // Output lost on a full disk, a closed pipe or a closed stdout is an I/O error, not exit 0.
     const auto finish = [](int code) {

@@ -3,6 +3,7 @@
 // renderer, CLI, bench and tests call one batch at a time (one virtual call per batch; the loop
 // over rays inside is a template instantiation of the technique's inline `trace`).
 #include <relief/core/error.h>
+#include <relief/core/isa.h>
 #include <relief/core/math.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
@@ -224,13 +225,39 @@ void traceAll(const Tracer& tracer, std::span<const Ray> rays, std::span<Hit> hi
 void traceFromAnywhere(const Tracer& tracer, const Surface& surface, std::span<Ray> rays,
                        std::span<Hit> hits);
 
+// The per-ray loop of a batch, compiled once per ISA (core/isa.h): the SSE4 and AVX2 copies
+// inline the whole walk (flatten) and compile it for their target; the baseline one is today's.
+template <class Impl>
+void traceRays(const Impl& impl, std::span<const Ray> rays, std::span<Hit> hits) {
+    for (size_t k = 0; k < rays.size(); ++k) hits[k] = impl.trace(rays[k]);
+}
+#if RELIEF_ISA_DISPATCH
+template <class Impl>
+RELIEF_TARGET_SSE4 void traceRaysSse4(const Impl& impl, std::span<const Ray> rays,
+                                      std::span<Hit> hits) {
+    traceRays(impl, rays, hits);
+}
+template <class Impl>
+RELIEF_TARGET_AVX2 void traceRaysAvx2(const Impl& impl, std::span<const Ray> rays,
+                                      std::span<Hit> hits) {
+    traceRays(impl, rays, hits);
+}
+#endif
+
 // Adapts a technique's concrete tracer (anything with `Hit trace(const Ray&) const`).
 template <class Impl>
 class BatchTracer final : public Tracer {
 public:
     explicit BatchTracer(Impl impl) : m_impl(std::move(impl)) {}
     void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        for (size_t k = 0; k < rays.size(); ++k) hits[k] = m_impl.trace(rays[k]);
+#if RELIEF_ISA_DISPATCH
+        switch (activeIsa()) {
+            case Isa::Avx2: return traceRaysAvx2(m_impl, rays, hits);
+            case Isa::Sse4: return traceRaysSse4(m_impl, rays, hits);
+            case Isa::Baseline: break;
+        }
+#endif
+        traceRays(m_impl, rays, hits);
     }
     const Impl& impl() const { return m_impl; }
 
