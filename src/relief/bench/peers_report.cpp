@@ -2,6 +2,8 @@
 #include <relief/bench/peers.h>
 #include <relief/bench/peers_report.h>
 
+#include <relief/core/isa.h>
+
 #include <algorithm>
 #include <map>
 
@@ -208,8 +210,8 @@ ReportTable targetsTable(const std::vector<const BenchRow*>& rows, const PeerInd
 
 }  // namespace
 
-// The tracers are built for baseline x86-64 (no per-ISA dispatch yet): one place to say so.
-std::string_view benchIsa() { return "baseline x86-64"; }
+// The instruction set the CPU tracers ran with (core/isa.h: --isa, RELIEF_ISA or the CPU's best).
+std::string_view benchIsa() { return tracerIsa(); }
 
 std::vector<ReportTable> cpuPeersTables(const std::vector<BenchRow>& rows,
                                         const BenchConfig& config, const BenchMeta& meta) {

@@ -3,6 +3,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 
 namespace relief {
 namespace {
@@ -79,13 +80,15 @@ Status checkIsaEnvironment() {
 Isa activeIsa() {
     uint8_t value = g_active.load(std::memory_order_relaxed);
     if (value == kUnset) {
+        // The CLI refuses a bad RELIEF_ISA before any work (checkIsaEnvironment, exit 1 or 5);
+        // a library user (the Python module, a C++ consumer) is warned once and gets the CPU's
+        // best: a library never ends its host process over an environment variable.
         Result<Isa> isa = isaFromEnvironment();
-        if (!isa) {
-            std::fprintf(stderr, "relief: error: %s\n", isa.error().message.c_str());
-            std::exit(1);
-        }
+        if (!isa)
+            std::fprintf(stderr, "relief: warning: %s; using %s\n", isa.error().message.c_str(),
+                         std::string(toString(bestSupportedIsa())).c_str());
         uint8_t expected = kUnset;
-        g_active.compare_exchange_strong(expected, uint8_t(*isa));
+        g_active.compare_exchange_strong(expected, uint8_t(isa ? *isa : bestSupportedIsa()));
         value = g_active.load(std::memory_order_relaxed);
     }
     return Isa(value);

@@ -26,8 +26,9 @@ bool isaSupported(Isa isa);
 Isa bestSupportedIsa();
 
 // The ISA the tracers use now: the last setTracerIsa, else RELIEF_ISA, else the best supported.
-// A RELIEF_ISA that parseIsa refuses ends the process with its message (exit 1) at the first
-// call; the CLI checks it first (checkIsaEnvironment) to report it as any other error.
+// A RELIEF_ISA that parseIsa refuses gives a warning on stderr at the first call and the best
+// supported ISA (a library does not end its host); the CLI checks it first
+// (checkIsaEnvironment) and refuses it as any other error (exit 1, or 5 for an ISA the CPU lacks).
 Isa activeIsa();
 std::string_view tracerIsa();  // toString(activeIsa())
 Status checkIsaEnvironment();
