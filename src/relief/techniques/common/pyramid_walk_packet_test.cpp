@@ -2,6 +2,7 @@
 // for bit, on adversarial maps and rays (walk_test_support.h), camera rays over fbm and a real
 // DEM crop, clamp and repeat.
 #include <gtest/gtest.h>
+#include <hwy/targets.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
@@ -57,6 +58,20 @@ void compare(const std::shared_ptr<const Surface>& surface, const std::vector<Ra
     }
 }
 
+// `run` once per compiled target this machine has (AVX2, SSE4, the portable fallback), with the
+// dispatch forced to it.
+template <class Run>
+void forEachTarget(Run run) {
+    const int64_t supported = hwy::SupportedTargets();
+    for (const int64_t target : {int64_t(HWY_AVX2), int64_t(HWY_SSE4), int64_t(HWY_EMU128)}) {
+        if ((supported & target) == 0) continue;
+        hwy::SetSupportedTargetsForTest(target);
+        SCOPED_TRACE(packetWalkTarget());
+        run();
+    }
+    hwy::SetSupportedTargetsForTest(0);
+}
+
 std::vector<Ray> cameraRays(const Surface& surface, float elevation, float azimuth, int width,
                             int height) {
     OrbitView view;
@@ -72,43 +87,47 @@ std::shared_ptr<const Surface> surfaceOf(Heightfield hf, float depthRatio, EdgeM
 }
 
 TEST(PyramidWalkPacket, IdenticalToScalarOnAdversarialMapsAndRays) {
-    Counts counts;
-    uint32_t seed = 1;
-    for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
-        const auto surface = walk_test::makeSurface(m, seed);
-        walk_test::RayMaker maker(*surface, seed++);
-        compare(surface, maker.all(120), walk_test::describe(m), counts);
-    }
-    std::printf("packet walk (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
-                counts.rays, counts.hits, counts.differences);
-    EXPECT_GE(counts.rays, 50000u);
-    EXPECT_EQ(counts.differences, 0u);
+    forEachTarget([] {
+        Counts counts;
+        uint32_t seed = 1;
+        for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
+            const auto surface = walk_test::makeSurface(m, seed);
+            walk_test::RayMaker maker(*surface, seed++);
+            compare(surface, maker.all(120), walk_test::describe(m), counts);
+        }
+        std::printf("packet walk (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
+                    counts.rays, counts.hits, counts.differences);
+        EXPECT_GE(counts.rays, 50000u);
+        EXPECT_EQ(counts.differences, 0u);
+    });
 }
 
 TEST(PyramidWalkPacket, IdenticalToScalarOnCameraRaysFbmAndDemCrop) {
-    Counts counts;
-    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
-        std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> maps;
-        auto fbm = generateHeightfield("fbm", 257, 200, 3);
-        ASSERT_TRUE(fbm.ok());
-        maps.emplace_back("fbm 257x200", surfaceOf(std::move(*fbm), 0.1f, edge));
-        auto terraces = generateHeightfield("terraces", 128, 128, 5);
-        ASSERT_TRUE(terraces.ok());
-        maps.emplace_back("terraces 128", surfaceOf(std::move(*terraces), 0.3f, edge));
-        auto dem = loadHeightfield(std::string(RELIEF_SOURCE_DIR) + "/data/colorado-elevation-400.png");
-        ASSERT_TRUE(dem.ok()) << dem.error().message;
-        maps.emplace_back("colorado 400", surfaceOf(std::move(*dem), 0.1f, edge));
-        for (const auto& [name, surface] : maps) {
-            for (float elevation : {15.3f, 40.2f, 65.1f})
-                compare(surface, cameraRays(*surface, elevation, 30.0f, 96, 80), name, counts);
-            walk_test::RayMaker maker(*surface, 77);
-            compare(surface, maker.all(300), name + " random", counts);
+    forEachTarget([] {
+        Counts counts;
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> maps;
+            auto fbm = generateHeightfield("fbm", 257, 200, 3);
+            ASSERT_TRUE(fbm.ok());
+            maps.emplace_back("fbm 257x200", surfaceOf(std::move(*fbm), 0.1f, edge));
+            auto terraces = generateHeightfield("terraces", 128, 128, 5);
+            ASSERT_TRUE(terraces.ok());
+            maps.emplace_back("terraces 128", surfaceOf(std::move(*terraces), 0.3f, edge));
+            auto dem = loadHeightfield(std::string(RELIEF_SOURCE_DIR) + "/data/colorado-elevation-400.png");
+            ASSERT_TRUE(dem.ok()) << dem.error().message;
+            maps.emplace_back("colorado 400", surfaceOf(std::move(*dem), 0.1f, edge));
+            for (const auto& [name, surface] : maps) {
+                for (float elevation : {15.3f, 40.2f, 65.1f})
+                    compare(surface, cameraRays(*surface, elevation, 30.0f, 96, 80), name, counts);
+                walk_test::RayMaker maker(*surface, 77);
+                compare(surface, maker.all(300), name + " random", counts);
+            }
         }
-    }
-    std::printf("packet walk (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
-                counts.rays, counts.hits, counts.differences);
-    EXPECT_GE(counts.rays, 50000u);
-    EXPECT_EQ(counts.differences, 0u);
+        std::printf("packet walk (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
+                    counts.rays, counts.hits, counts.differences);
+        EXPECT_GE(counts.rays, 50000u);
+        EXPECT_EQ(counts.differences, 0u);
+    });
 }
 
 // The registry's quadtree takes the packet path with its defaults only, and both give the
