@@ -50,8 +50,8 @@ struct Walk {
     const Surface& s;
     const PyramidLayout& layout;
     const float* values;
-    int32_t levelOffset[PyramidLayout::kMaxLevels];
-    int32_t tilesPerRow[PyramidLayout::kMaxLevels];
+    // Each level's first value in `values`, padded for whole-vector loads.
+    alignas(64) int32_t levelOffset[PyramidLayout::kMaxLevels + kLanes];
     std::span<const Ray> rays;
     std::span<Hit> hits;
     size_t next = 0;
@@ -137,11 +137,13 @@ struct Walk {
         const VF et = hn::IfThenElse(hn::Lt(t, m), m, t);
 
         // MaxBound::enter: the node's max (TiledIndex<2>) + slack, then enterBelow.
-        const VI tiles = hn::GatherIndex(di, tilesPerRow, level);
+        // Tiles per row: TiledIndex<2>::of(widthAt(level)), computed rather than gathered (the
+        // gather of the node's value is the walk's critical path; it should wait on no other).
+        const VI tiles = hn::Add(hn::ShiftRight<2>(hn::Sub(cellsX, oneI) >> level), oneI);
         const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(ny), tiles), hn::ShiftRight<2>(nx));
         const VI three = hn::Set(di, 3);
         const VI offset = hn::Add(
-            hn::Add(hn::GatherIndex(di, levelOffset, level), hn::ShiftLeft<4>(tile)),
+            hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
             hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
         const VF top = hn::Add(hn::GatherIndex(df, values, offset), hn::Load(df, p.slack));
         const VF zOut = hn::Add(oz, hn::Mul(et, dz));
@@ -264,6 +266,22 @@ struct Walk {
         return false;
     }
 
+    // table[level] by lane: lookups in registers over the table's whole vectors (a handful of
+    // levels per vector), no memory gather.
+    VI lookupLevel(const int32_t* table, VI level) const {
+        const DI di;
+        const int n = int(hn::Lanes(di));
+        VI result = hn::Zero(di);
+        for (int first = 0; first < layout.levels; first += n) {
+            const VI k = hn::Sub(level, hn::Set(di, first));
+            const MI here = hn::AndNot(hn::Lt(k, hn::Zero(di)), hn::Lt(k, hn::Set(di, n)));
+            const VI v = hn::TableLookupLanes(
+                hn::Load(di, table + first), hn::IndicesFromVec(di, hn::And(k, hn::Set(di, n - 1))));
+            result = hn::IfThenElse(here, v, result);
+        }
+        return result;
+    }
+
     // settleHalf (pyramid_walk.h) across lanes: the child's index and, where it leaves through
     // the middle, its exit.
     static void settleHalf(VF t, VF edge, VF origin, VF inverse, VI step, VI base, VI lo, VI half,
@@ -302,10 +320,12 @@ struct Walk {
 
 void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<const Ray> rays,
                  std::span<Hit> hits) {
-    Walk walk{surface, pyramid.layout(), pyramid.values(), {}, {}, rays, hits};
+    Walk walk{surface, pyramid.layout(), pyramid.values(), {}, rays, hits};
     for (int level = 0; level < pyramid.layout().levels; ++level) {
         walk.levelOffset[level] = int32_t(pyramid.levelValues(level) - pyramid.values());
-        walk.tilesPerRow[level] = pyramid.levelTilesPerRow(level);
+        // what iterate computes in place of a lookup
+        RELIEF_CHECK(pyramid.levelTilesPerRow(level) ==
+                     (((pyramid.layout().cellsX - 1) >> level) >> 2) + 1);
     }
     Packet p{};
     for (size_t k = 0; k < kLanes; ++k) {
