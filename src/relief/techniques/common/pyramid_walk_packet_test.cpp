@@ -58,12 +58,13 @@ void compare(const std::shared_ptr<const Surface>& surface, const std::vector<Ra
     }
 }
 
-// `run` once per compiled target this machine has (AVX2, SSE4, the portable fallback), with the
+// `run` once per compiled target this machine has (AVX-512, AVX2, SSE4, the fallback), with the
 // dispatch forced to it.
 template <class Run>
 void forEachTarget(Run run) {
     const int64_t supported = hwy::SupportedTargets();
-    for (const int64_t target : {int64_t(HWY_AVX2), int64_t(HWY_SSE4), int64_t(HWY_EMU128)}) {
+    for (const int64_t target :
+         {int64_t(HWY_AVX3), int64_t(HWY_AVX2), int64_t(HWY_SSE4), int64_t(HWY_EMU128)}) {
         if ((supported & target) == 0) continue;
         hwy::SetSupportedTargetsForTest(target);
         SCOPED_TRACE(packetWalkTarget());
