@@ -3,13 +3,17 @@
 // each pass through traceAll (256-ray batches in parallel), the ratio taken pair by pair, and
 // every hit compared bit for bit.
 //
-//   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat] SOURCE...
+//   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
+//                    [--isa avx3|avx2|sse4] SOURCE...
+//   --isa: limit the packet walk's dispatch to that target (default: the best this CPU has)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
 #include <relief/render/surface_source.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/quadtree/quadtree.h>
+
+#include <hwy/targets.h>
 
 #include <algorithm>
 #include <bit>
@@ -78,11 +82,18 @@ int main(int argc, char** argv) {
         else if (a == "--reps" && k + 1 < argc) reps = std::max(1, std::atoi(argv[++k]));
         else if (a == "--size" && k + 1 < argc) std::sscanf(argv[++k], "%dx%d", &width, &height);
         else if (a == "--edge" && k + 1 < argc) edge = argv[++k];
+        else if (a == "--isa" && k + 1 < argc) {
+            const std::string isa = argv[++k];
+            hwy::SetSupportedTargetsForTest(isa == "avx3"   ? HWY_AVX3
+                                            : isa == "avx2" ? HWY_AVX2
+                                            : isa == "sse4" ? HWY_SSE4
+                                                            : HWY_EMU128);
+        }
         else sources.push_back(a);
     }
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
-                             "[--edge clamp|repeat] SOURCE...\n", argv[0]);
+                             "[--edge clamp|repeat] [--isa avx3|avx2|sse4] SOURCE...\n", argv[0]);
         return 2;
     }
     const ThreadLimit limit(threads);
