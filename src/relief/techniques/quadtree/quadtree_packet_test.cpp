@@ -1,6 +1,6 @@
-// The packet walk against the scalar walk it vectorizes: every field of every hit identical, bit
-// for bit, on adversarial maps and rays (walk_test_support.h), camera rays over fbm and a real
-// DEM crop, clamp and repeat.
+// quadtree's packet walk against the scalar walk it vectorizes: every field of every hit
+// identical, bit for bit, on adversarial maps and rays (walk_test_support.h), camera rays over
+// fbm and a real DEM, clamp and repeat.
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 #include <relief/io/heightfield_io.h>
