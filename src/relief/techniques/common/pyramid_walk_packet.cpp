@@ -102,9 +102,9 @@ struct Walk {
         p.px[lane] = p.py[lane] = 0;
     }
 
-    // One iteration of walkPyramid's loop in every active lane; finished lanes take new rays.
-    // Returns whether any lane is still active.
-    bool iterate(Packet& p) {
+    // walkPyramid's loop in every active lane until the batch is done; finished lanes take new
+    // rays. The lanes' state stays in registers, through memory only for the scalar parts.
+    void run(Packet& p) {
         const DF df;
         const DI di;
         const size_t n = hn::Lanes(df);
@@ -113,17 +113,53 @@ struct Walk {
         const VF edge = hn::Set(df, layout.edge);
         const VI cellsX = hn::Set(di, layout.cellsX), cellsY = hn::Set(di, layout.cellsY);
 
-        const MI act = hn::MaskFromVec(hn::Load(di, p.active));
-        const VF t = hn::Load(df, p.t), exitX = hn::Load(df, p.exitX),
-                 exitY = hn::Load(df, p.exitY);
-        const VI level = hn::Load(di, p.level), px = hn::Load(di, p.px), py = hn::Load(di, p.py),
-                 baseX = hn::Load(di, p.baseX), baseY = hn::Load(di, p.baseY);
-        const VF ox = hn::Load(df, p.ox), oy = hn::Load(df, p.oy), oz = hn::Load(df, p.oz),
-                 dz = hn::Load(df, p.dz);
-        const VF invX = hn::Load(df, p.invX), invY = hn::Load(df, p.invY),
-                 invZ = hn::Load(df, p.invZ), tExit = hn::Load(df, p.tExit);
-        const VI stepX = hn::Load(di, p.stepX), stepY = hn::Load(di, p.stepY);
-        VI steps = hn::Load(di, p.steps), fetches = hn::Load(di, p.fetches);
+        MI act = hn::MaskFromVec(zeroI);
+        VF t = inf, exitX = inf, exitY = inf, ox = inf, oy = inf, oz = inf, dz = inf, invX = inf,
+           invY = inf, invZ = inf, tExit = inf, slack = inf;
+        VI level = zeroI, px = zeroI, py = zeroI, baseX = zeroI, baseY = zeroI, stepX = zeroI,
+           stepY = zeroI, exitMaskX = zeroI, exitMaskY = zeroI, steps = zeroI, fetches = zeroI;
+        const auto reload = [&] {
+            act = hn::MaskFromVec(hn::Load(di, p.active));
+            t = hn::Load(df, p.t);
+            exitX = hn::Load(df, p.exitX);
+            exitY = hn::Load(df, p.exitY);
+            level = hn::Load(di, p.level);
+            px = hn::Load(di, p.px);
+            py = hn::Load(di, p.py);
+            baseX = hn::Load(di, p.baseX);
+            baseY = hn::Load(di, p.baseY);
+            ox = hn::Load(df, p.ox);
+            oy = hn::Load(df, p.oy);
+            oz = hn::Load(df, p.oz);
+            dz = hn::Load(df, p.dz);
+            invX = hn::Load(df, p.invX);
+            invY = hn::Load(df, p.invY);
+            invZ = hn::Load(df, p.invZ);
+            tExit = hn::Load(df, p.tExit);
+            slack = hn::Load(df, p.slack);
+            stepX = hn::Load(di, p.stepX);
+            stepY = hn::Load(di, p.stepY);
+            exitMaskX = hn::Load(di, p.exitMaskX);
+            exitMaskY = hn::Load(di, p.exitMaskY);
+            steps = hn::Load(di, p.steps);
+            fetches = hn::Load(di, p.fetches);
+        };
+        // What changes during the walk (the rest only in `fill`).
+        const auto spill = [&] {
+            hn::Store(t, df, p.t);
+            hn::Store(exitX, df, p.exitX);
+            hn::Store(exitY, df, p.exitY);
+            hn::Store(level, di, p.level);
+            hn::Store(px, di, p.px);
+            hn::Store(py, di, p.py);
+            hn::Store(baseX, di, p.baseX);
+            hn::Store(baseY, di, p.baseY);
+            hn::Store(steps, di, p.steps);
+            hn::Store(fetches, di, p.fetches);
+        };
+        reload();
+        if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
+        for (;;) {
         steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
         fetches = hn::Add(fetches, hn::IfThenElseZero(act, oneI));
 
@@ -145,7 +181,7 @@ struct Walk {
         const VI offset = hn::Add(
             hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
             hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
-        const VF top = hn::Add(hn::GatherIndex(df, values, offset), hn::Load(df, p.slack));
+        const VF top = hn::Add(hn::GatherIndex(df, values, offset), slack);
         const VF zOut = hn::Add(oz, hn::Mul(et, dz));
         const VF cross = hn::Mul(hn::Sub(top, oz), invZ);
         const VF clamped =  // std::clamp(cross, t, et)
@@ -159,12 +195,15 @@ struct Walk {
         const MI descends = hn::AndNot(atLeaf, below);
         const MI leaf = hn::And(below, atLeaf);
 
-        // Level 0: the reference's cell test, lane by lane (the state arrays are still this
-        // iteration's).
+        // Level 0: the reference's cell test, lane by lane (through the arrays).
         MI leafHits = hn::RebindMask(di, hn::Lt(hn::Zero(df), hn::Zero(df)));  // none
         if (!hn::AllFalse(di, leaf)) {
             fetches = hn::Add(fetches, hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches)));
             hn::Store(hn::VecFromMask(di, leaf), di, p.leafHit);
+            hn::Store(px, di, p.px);
+            hn::Store(py, di, p.py);
+            hn::Store(baseX, di, p.baseX);
+            hn::Store(baseY, di, p.baseY);
             for (size_t k = 0; k < n; ++k) {
                 if (!p.leafHit[k]) continue;
                 WalkCursor c{};
@@ -178,7 +217,6 @@ struct Walk {
             }
             leafHits = hn::MaskFromVec(hn::Load(di, p.leafHit));
         }
-        hn::Store(hn::VecFromMask(di, leafHits), di, p.leafHit);  // read when the ray is done
 
         // descend (settleHalf per axis; no texel ties: the pyramid is over cells)
         const VI levelDown = hn::Sub(level, oneI);
@@ -217,11 +255,11 @@ struct Walk {
         const VI baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
         const VF exitXA = hn::IfThenElse(
             hn::RebindMask(df, hn::Or(alongX, ascended)),
-            sideExit(pxA, levelA, cellsX, baseXA, stepX, hn::Load(di, p.exitMaskX), edge, ox, invX),
+            sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
             exitX);
         const VF exitYA = hn::IfThenElse(
             hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
-            sideExit(pyA, levelA, cellsY, baseYA, stepY, hn::Load(di, p.exitMaskY), edge, oy, invY),
+            sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
             exitY);
         const MI leaves =
             hn::And(advances, layout.repeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
@@ -233,37 +271,38 @@ struct Walk {
             (void)d;
             return hn::IfThenElse(mDown, down, hn::IfThenElse(mAdvance, advanced, same));
         };
-        hn::Store(pick(df, descendsF, advancesF, tIn, et, t), df, p.t);
-        hn::Store(pick(df, descendsF, advancesF, exitXD, exitXA, exitX), df, p.exitX);
-        hn::Store(pick(df, descendsF, advancesF, exitYD, exitYA, exitY), df, p.exitY);
-        hn::Store(pick(di, descends, advances, levelDown, levelA, level), di, p.level);
-        hn::Store(pick(di, descends, advances, pxD, pxA, px), di, p.px);
-        hn::Store(pick(di, descends, advances, pyD, pyA, py), di, p.py);
-        hn::Store(hn::IfThenElse(advances, baseXA, baseX), di, p.baseX);
-        hn::Store(hn::IfThenElse(advances, baseYA, baseY), di, p.baseY);
-        hn::Store(steps, di, p.steps);
-        hn::Store(fetches, di, p.fetches);
+        t = pick(df, descendsF, advancesF, tIn, et, t);
+        exitX = pick(df, descendsF, advancesF, exitXD, exitXA, exitX);
+        exitY = pick(df, descendsF, advancesF, exitYD, exitYA, exitY);
+        level = pick(di, descends, advances, levelDown, levelA, level);
+        px = pick(di, descends, advances, pxD, pxA, px);
+        py = pick(di, descends, advances, pyD, pyA, py);
+        baseX = hn::IfThenElse(advances, baseXA, baseX);
+        baseY = hn::IfThenElse(advances, baseYA, baseY);
 
         // Rays done: a cell hit, or leaving the box (the floor rule decides).
         const MI done = hn::Or(leafHits, leaves);
-        if (!hn::AllFalse(di, done)) {
-            hn::Store(hn::VecFromMask(di, done), di, p.done);
-            for (size_t k = 0; k < n; ++k) {
-                if (!p.done[k]) continue;
-                const size_t i = p.index[k];
-                const Ray& ray = rays[i];
-                if (p.leafHit[k] && p.leafT[k] < kInfinity)
-                    hits[i] = makeHit(ray, p.leafT[k], p.steps[k], p.fetches[k]);
-                else
-                    hits[i] = leavesThroughFloor(p.ray[k])
-                                  ? makeHit(ray, p.ray[k].tExit, p.steps[k], p.fetches[k])
-                                  : makeMiss(p.steps[k], p.fetches[k]);
-                fill(p, k);
-            }
+        if (hn::AllFalse(di, done)) continue;
+        spill();
+        hn::Store(hn::VecFromMask(di, done), di, p.done);
+        hn::Store(hn::VecFromMask(di, leafHits), di, p.leafHit);
+        for (size_t k = 0; k < n; ++k) {
+            if (!p.done[k]) continue;
+            const size_t i = p.index[k];
+            const Ray& ray = rays[i];
+            if (p.leafHit[k])
+                hits[i] = makeHit(ray, p.leafT[k], p.steps[k], p.fetches[k]);
+            else
+                hits[i] = leavesThroughFloor(p.ray[k])
+                              ? makeHit(ray, p.ray[k].tExit, p.steps[k], p.fetches[k])
+                              : makeMiss(p.steps[k], p.fetches[k]);
+            fill(p, k);
         }
-        for (size_t k = 0; k < n; ++k)
-            if (p.active[k]) return true;
-        return false;
+        bool any = false;
+        for (size_t k = 0; k < n; ++k) any = any || p.active[k] != 0;
+        if (!any) return;
+        reload();
+        }
     }
 
     // table[level] by lane: lookups in registers over the table's whole vectors (a handful of
@@ -332,8 +371,7 @@ void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<co
         p.active[k] = p.level[k] = p.px[k] = p.py[k] = 0;
         if (k < hn::Lanes(DF())) walk.fill(p, k);
     }
-    while (walk.iterate(p)) {
-    }
+    walk.run(p);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
