@@ -104,6 +104,7 @@ struct Walk {
 
     // walkPyramid's loop in every active lane until the batch is done; finished lanes take new
     // rays. The lanes' state stays in registers, through memory only for the scalar parts.
+    template <Ascent kAscent>
     void run(Packet& p) {
         const DF df;
         const DI di;
@@ -244,10 +245,19 @@ struct Walk {
         const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
         const VI toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
         const VI baseShift = hn::IfThenElseZero(seam, shift);
-        const VI levelUp = hn::Add(level, oneI);
-        const MI newParent = hn::Or(seam, hn::Ne((from >> levelUp), (to >> levelUp)));
-        const VI levelA =
-            hn::IfThenElse(newParent, hn::Min(levelUp, hn::Set(di, layout.topLevel())), level);
+        const VI topLevel = hn::Set(di, layout.topLevel());
+        VI levelA;  // levelAfterStep
+        if constexpr (kAscent == Ascent::Parent) {
+            const VI levelUp = hn::Add(level, oneI);
+            const MI newParent = hn::Or(seam, hn::Ne((from >> levelUp), (to >> levelUp)));
+            levelA = hn::IfThenElse(newParent, hn::Min(levelUp, topLevel), level);
+        } else {
+            // bit_width(from ^ to) - 1: the exponent of the float (exact: indices < 2^23, and
+            // from ^ to ≥ 1 in every lane that stays)
+            const VI bits = hn::BitCast(di, hn::ConvertTo(df, hn::Xor(from, to)));
+            const VI highest = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
+            levelA = hn::IfThenElse(seam, topLevel, highest);
+        }
         const MI ascended = hn::Ne(levelA, level);
         const VI pxA = hn::IfThenElse(alongX, toWrapped, px);
         const VI pyA = hn::IfThenElse(alongX, py, toWrapped);
@@ -358,7 +368,7 @@ struct Walk {
 };
 
 void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<const Ray> rays,
-                 std::span<Hit> hits) {
+                 std::span<Hit> hits, Ascent ascent) {
     Walk walk{surface, pyramid.layout(), pyramid.values(), {}, rays, hits};
     for (int level = 0; level < pyramid.layout().levels; ++level) {
         walk.levelOffset[level] = int32_t(pyramid.levelValues(level) - pyramid.values());
@@ -371,7 +381,10 @@ void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<co
         p.active[k] = p.level[k] = p.px[k] = p.py[k] = 0;
         if (k < hn::Lanes(DF())) walk.fill(p, k);
     }
-    walk.run(p);
+    if (ascent == Ascent::Ancestor)
+        walk.run<Ascent::Ancestor>(p);
+    else
+        walk.run<Ascent::Parent>(p);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
@@ -387,14 +400,16 @@ HWY_EXPORT(WalkPackets);
 HWY_EXPORT(TargetName);
 
 bool packetWalkSupports(const MaxPyramid& pyramid) {
-    // Gather offsets are int32.
-    return !pyramid.layout().texels() &&
+    // Gather offsets are int32; Ancestor's bit_width goes through a float (exact below 2^23).
+    const PyramidLayout& layout = pyramid.layout();
+    return !layout.texels() && layout.cellsX < (1 << 22) && layout.cellsY < (1 << 22) &&
            pyramid.bytes() / sizeof(float) < size_t(std::numeric_limits<int32_t>::max());
 }
 
 void walkPyramidPackets(const Surface& surface, const MaxPyramid& pyramid,
-                        std::span<const Ray> rays, std::span<Hit> hits) {
-    HWY_DYNAMIC_DISPATCH(WalkPackets)(surface, pyramid, rays, hits);
+                        std::span<const Ray> rays, std::span<Hit> hits, Ascent ascent) {
+    RELIEF_CHECK(ascent == Ascent::Parent || ascent == Ascent::Ancestor);
+    HWY_DYNAMIC_DISPATCH(WalkPackets)(surface, pyramid, rays, hits, ascent);
 }
 
 const char* packetWalkTarget() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
