@@ -1,4 +1,4 @@
-// quadtree's packet walk against its scalar walk, side by side in one process on the same primary
+// The packet walk (quadtree's and maxmip's) against the scalar walk, side by side in one process on the same primary
 // rays (docs/benchmarks-packets.md): per map and elevation, the two traced in turn (A B A B ...),
 // each pass through traceAll (256-ray batches in parallel), the ratio taken pair by pair, and
 // every hit compared bit for bit.
@@ -11,7 +11,6 @@
 #include <relief/render/camera.h>
 #include <relief/render/surface_source.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
-#include <relief/techniques/quadtree/quadtree.h>
 
 #include <hwy/targets.h>
 
@@ -28,26 +27,39 @@ namespace {
 
 using namespace relief;
 
+// The walk of `quadtree` (Ascent::Parent) or `maxmip` (Ascent::Ancestor) with their defaults.
+struct Walk {
+    const Surface& surface;
+    const MaxPyramid& pyramid;
+    Ascent ascent;
+};
+
 class PacketTracer final : public Tracer {
 public:
-    explicit PacketTracer(const QuadtreeTracer& impl) : m_impl(impl) {}
+    explicit PacketTracer(Walk walk) : m_walk(walk) {}
     void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        walkPyramidPackets(m_impl.surface(), m_impl.pyramid(), rays, hits);
+        walkPyramidPackets(m_walk.surface, m_walk.pyramid, rays, hits, m_walk.ascent);
     }
 
 private:
-    const QuadtreeTracer& m_impl;
+    Walk m_walk;
 };
 
 class ScalarTracer final : public Tracer {
 public:
-    explicit ScalarTracer(const QuadtreeTracer& impl) : m_impl(impl) {}
+    explicit ScalarTracer(Walk walk) : m_walk(walk) {}
     void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        for (size_t k = 0; k < rays.size(); ++k) hits[k] = m_impl.trace(rays[k]);
+        const MaxBound bound(m_walk.pyramid);
+        const PyramidLayout& layout = m_walk.pyramid.layout();
+        for (size_t k = 0; k < rays.size(); ++k)
+            hits[k] = m_walk.ascent == Ascent::Parent
+                          ? walkPyramid<Ascent::Parent>(m_walk.surface, layout, bound, rays[k], {})
+                          : walkPyramid<Ascent::Ancestor>(m_walk.surface, layout, bound, rays[k],
+                                                          {});
     }
 
 private:
-    const QuadtreeTracer& m_impl;
+    Walk m_walk;
 };
 
 double seconds(const Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>& hits) {
@@ -99,8 +111,8 @@ int main(int argc, char** argv) {
     const ThreadLimit limit(threads);
     std::printf("packet target %s, %d threads, %dx%d rays, %d pairs, edge %s\n\n",
                 packetWalkTarget(), threads, width, height, reps, edge.c_str());
-    std::printf("| map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
-                "pairs) | hits | differences |\n|---|---|---|---|---|---|---|\n");
+    std::printf("| walk | map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
+                "pairs) | hits | differences |\n|---|---|---|---|---|---|---|---|\n");
     for (const std::string& source : sources) {
         SurfaceOptions options;
         options.source = source;
@@ -115,10 +127,11 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "%s\n", surface.error().message.c_str());
             return 1;
         }
-        const QuadtreeTracer quadtree(*surface, std::make_shared<const MaxPyramid>(**surface),
-                                      Ascent::Parent, {});
-        const ScalarTracer scalar(quadtree);
-        const PacketTracer packets(quadtree);
+        const MaxPyramid pyramid(**surface);
+        for (const Ascent ascent : {Ascent::Parent, Ascent::Ancestor}) {
+        const char* walkName = ascent == Ascent::Parent ? "quadtree" : "maxmip";
+        const ScalarTracer scalar({**surface, pyramid, ascent});
+        const PacketTracer packets({**surface, pyramid, ascent});
         for (const float elevation : {15.3f, 40.2f, 65.1f}) {
             OrbitView view;
             view.elevationDeg = elevation;
@@ -139,11 +152,12 @@ int main(int argc, char** argv) {
                 ratios.push_back(ts.back() / tp.back());
             }
             const double n = double(rays.size()) * 1e-6;
-            std::printf("| %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu |\n",
-                        source.c_str(), elevation, n / median(ts), n / median(tp),
+            std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu |\n",
+                        walkName, source.c_str(), elevation, n / median(ts), n / median(tp),
                         median(ratios), *std::min_element(ratios.begin(), ratios.end()),
                         *std::max_element(ratios.begin(), ratios.end()), hits, differences);
             std::fflush(stdout);
+        }
         }
     }
     return 0;
