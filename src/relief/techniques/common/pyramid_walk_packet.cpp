@@ -32,7 +32,7 @@ using MI = hn::Mask<DI>;
 constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
 
 // The lanes' state, structure of arrays: the cursor (WalkCursor) and the ray's constants
-// (WalkRay), loaded into vectors each iteration; the scalar parts read them by lane.
+// (WalkRay), read into vectors when lanes change rays; the scalar parts read them by lane.
 struct Packet {
     alignas(64) float t[kLanes], exitX[kLanes], exitY[kLanes];
     alignas(64) int32_t level[kLanes], px[kLanes], py[kLanes], baseX[kLanes], baseY[kLanes];
@@ -227,7 +227,7 @@ struct Walk {
         settleHalf(tIn, edge, ox, invX, stepX, baseX, loX, half, cellsX, exitX, pxD, exitXD);
         settleHalf(tIn, edge, oy, invY, stepY, baseY, loY, half, cellsY, exitY, pyD, exitYD);
 
-        // advance<Ascent::Parent>, in the lanes that neither descend nor hit
+        // advance<kAscent>, in the lanes that neither descend nor hit
         const MI advances = hn::AndNot(hn::Or(descends, leafHits), act);
         const MI pastEnd = hn::RebindMask(di, hn::Ge(et, tExit));
         const MI alongX = hn::RebindMask(di, hn::Le(exitX, exitY));
@@ -372,7 +372,7 @@ void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<co
     Walk walk{surface, pyramid.layout(), pyramid.values(), {}, rays, hits};
     for (int level = 0; level < pyramid.layout().levels; ++level) {
         walk.levelOffset[level] = int32_t(pyramid.levelValues(level) - pyramid.values());
-        // what iterate computes in place of a lookup
+        // what run computes in place of a lookup
         RELIEF_CHECK(pyramid.levelTilesPerRow(level) ==
                      (((pyramid.layout().cellsX - 1) >> level) >> 2) + 1);
     }
