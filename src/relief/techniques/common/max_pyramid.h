@@ -108,6 +108,11 @@ public:
         return l.values[l.index(nx, ny)];
     }
     size_t bytes() const { return m_values.size() * sizeof(float); }
+    // The raw tiled storage, for gathers (pyramid_walk_packet.cpp): a level's first value (its
+    // offset from `values()`) and its tiles per row; node (nx, ny) is at TiledIndex<2>.
+    const float* values() const { return m_values.data(); }
+    const float* levelValues(int level) const { return m_levels[size_t(level)].values; }
+    int levelTilesPerRow(int level) const { return m_levels[size_t(level)].index.tilesPerRow; }
 
     // Every node replaced by the decoded value of its `bits` code (bits 32: unchanged).
     void roundUp(int bits, float depth);

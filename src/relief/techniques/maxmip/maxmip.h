@@ -17,6 +17,8 @@
 //   with the reference's two-triangle test. The walk ascends to the child of the common
 //   ancestor that holds the neighbour (the ancestor itself was already entered); crossing the
 //   tile seam in repeat mode restarts at the root of the next tile.
+// Packets: the defaults (max-steps 0, box-surface 0, bits 32) trace a batch in SIMD lanes
+//   (common/pyramid_walk_packet.h), bit-identical; RELIEF_PACKETS=0 keeps the scalar walk.
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/technique.h>
 
@@ -34,6 +36,9 @@ public:
         return walkPyramid<Ascent::Ancestor>(*m_surface, m_pyramid->layout(), MaxBound(*m_pyramid),
                                              ray, m_limits);
     }
+
+    const MaxPyramid& pyramid() const { return *m_pyramid; }
+    const Surface& surface() const { return *m_surface; }
 
 private:
     std::shared_ptr<const Surface> m_surface;

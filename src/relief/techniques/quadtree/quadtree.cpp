@@ -1,6 +1,22 @@
+#include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/quadtree/quadtree.h>
 
 namespace relief {
+namespace {
+
+// The default walk over a batch in SIMD packets (the same hits as QuadtreeTracer::trace).
+class QuadtreePacketTracer final : public Tracer {
+public:
+    explicit QuadtreePacketTracer(QuadtreeTracer impl) : m_impl(std::move(impl)) {}
+    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        walkPyramidPackets(m_impl.surface(), m_impl.pyramid(), rays, hits);
+    }
+
+private:
+    QuadtreeTracer m_impl;
+};
+
+}  // namespace
 
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"),
@@ -8,7 +24,12 @@ Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     const Ascent ascent = input.params.getInt("ascend") == 0 ? Ascent::None : Ascent::Parent;
     auto pyramid = maxPyramidFor(input);  // baked (input.maps) or built now
     if (!pyramid) return pyramid.error();
-    return makeBatchTracer(QuadtreeTracer(input.surface, std::move(*pyramid), ascent, limits));
+    QuadtreeTracer tracer(input.surface, std::move(*pyramid), ascent, limits);
+    const bool packets = ascent == Ascent::Parent && limits.maxSteps == 0 &&
+                         !limits.boxSurface && pyramidBits(input.params) == 32 &&
+                         packetWalkSupports(tracer.pyramid()) && packetWalkEnabled();
+    if (packets) return std::unique_ptr<Tracer>(new QuadtreePacketTracer(std::move(tracer)));
+    return makeBatchTracer(std::move(tracer));
 }
 
 Result<TechniqueMaps> buildQuadtreeMaps(const TechniqueInput& input) {

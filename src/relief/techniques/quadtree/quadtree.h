@@ -28,6 +28,9 @@
 //     below S through a side wall hits it at the entry.
 //   - max-steps = 0 (the default) is the dynamic loop; N > 0 is the paper's fixed loop: after N
 //     iterations it reports a hit at the cursor.
+// Packets: the defaults (ascend 1, max-steps 0, box-surface 0, bits 32) trace a batch 8 or 16 rays
+//   at a time in SIMD lanes (common/pyramid_walk_packet.h), bit-identical to the scalar walk;
+//   RELIEF_PACKETS=0 in the environment keeps the scalar walk (A/B).
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/technique.h>
 
@@ -52,6 +55,7 @@ public:
         return walkPyramid<Ascent::Parent>(*m_surface, layout, bound, ray, m_limits);
     }
     const MaxPyramid& pyramid() const { return *m_pyramid; }
+    const Surface& surface() const { return *m_surface; }
 
 private:
     std::shared_ptr<const Surface> m_surface;

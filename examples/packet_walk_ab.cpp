@@ -1,0 +1,164 @@
+// The packet walk (quadtree's and maxmip's) against the scalar walk, side by side in one process on the same primary
+// rays (docs/benchmarks-packets.md): per map and elevation, the two traced in turn (A B A B ...),
+// each pass through traceAll (256-ray batches in parallel), the ratio taken pair by pair, and
+// every hit compared bit for bit.
+//
+//   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
+//                    [--isa avx3|avx2|sse4] SOURCE...
+//   --isa: limit the packet walk's dispatch to that target (default: the best this CPU has)
+//   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
+#include <relief/core/parallel.h>
+#include <relief/render/camera.h>
+#include <relief/render/surface_source.h>
+#include <relief/techniques/common/pyramid_walk_packet.h>
+
+#include <hwy/targets.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace relief;
+
+// The walk of `quadtree` (Ascent::Parent) or `maxmip` (Ascent::Ancestor) with their defaults.
+struct Walk {
+    const Surface& surface;
+    const MaxPyramid& pyramid;
+    Ascent ascent;
+};
+
+class PacketTracer final : public Tracer {
+public:
+    explicit PacketTracer(Walk walk) : m_walk(walk) {}
+    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        walkPyramidPackets(m_walk.surface, m_walk.pyramid, rays, hits, m_walk.ascent);
+    }
+
+private:
+    Walk m_walk;
+};
+
+class ScalarTracer final : public Tracer {
+public:
+    explicit ScalarTracer(Walk walk) : m_walk(walk) {}
+    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        const MaxBound bound(m_walk.pyramid);
+        const PyramidLayout& layout = m_walk.pyramid.layout();
+        for (size_t k = 0; k < rays.size(); ++k)
+            hits[k] = m_walk.ascent == Ascent::Parent
+                          ? walkPyramid<Ascent::Parent>(m_walk.surface, layout, bound, rays[k], {})
+                          : walkPyramid<Ascent::Ancestor>(m_walk.surface, layout, bound, rays[k],
+                                                          {});
+    }
+
+private:
+    Walk m_walk;
+};
+
+double seconds(const Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>& hits) {
+    const auto start = std::chrono::steady_clock::now();
+    traceAll(tracer, rays, hits);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool same(const Hit& a, const Hit& b) {
+    const auto bits = [](float v) { return std::bit_cast<uint32_t>(v); };
+    return a.hit == b.hit && bits(a.t) == bits(b.t) && bits(a.position.x) == bits(b.position.x) &&
+           bits(a.position.y) == bits(b.position.y) &&
+           bits(a.position.z) == bits(b.position.z) && a.steps == b.steps &&
+           a.fetches == b.fetches;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int threads = 2, reps = 7, width = 640, height = 512;
+    std::string edge = "clamp";
+    std::vector<std::string> sources;
+    for (int k = 1; k < argc; ++k) {
+        const std::string a = argv[k];
+        if (a == "--threads" && k + 1 < argc) threads = std::atoi(argv[++k]);
+        else if (a == "--reps" && k + 1 < argc) reps = std::max(1, std::atoi(argv[++k]));
+        else if (a == "--size" && k + 1 < argc) std::sscanf(argv[++k], "%dx%d", &width, &height);
+        else if (a == "--edge" && k + 1 < argc) edge = argv[++k];
+        else if (a == "--isa" && k + 1 < argc) {
+            const std::string isa = argv[++k];
+            hwy::SetSupportedTargetsForTest(isa == "avx3"   ? HWY_AVX3
+                                            : isa == "avx2" ? HWY_AVX2
+                                            : isa == "sse4" ? HWY_SSE4
+                                                            : HWY_EMU128);
+        }
+        else sources.push_back(a);
+    }
+    if (sources.empty()) {
+        std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
+                             "[--edge clamp|repeat] [--isa avx3|avx2|sse4] SOURCE...\n", argv[0]);
+        return 2;
+    }
+    const ThreadLimit limit(threads);
+    std::printf("packet target %s, %d threads, %dx%d rays, %d pairs, edge %s\n\n",
+                packetWalkTarget(), threads, width, height, reps, edge.c_str());
+    std::printf("| walk | map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
+                "pairs) | hits | differences |\n|---|---|---|---|---|---|---|---|\n");
+    for (const std::string& source : sources) {
+        SurfaceOptions options;
+        options.source = source;
+        options.edge = edge;
+        auto hf = loadHeightfield(options);
+        if (!hf) {
+            std::fprintf(stderr, "%s\n", hf.error().message.c_str());
+            return 1;
+        }
+        auto surface = makeSurface(options, *hf);
+        if (!surface) {
+            std::fprintf(stderr, "%s\n", surface.error().message.c_str());
+            return 1;
+        }
+        const MaxPyramid pyramid(**surface);
+        for (const Ascent ascent : {Ascent::Parent, Ascent::Ancestor}) {
+        const char* walkName = ascent == Ascent::Parent ? "quadtree" : "maxmip";
+        const ScalarTracer scalar({**surface, pyramid, ascent});
+        const PacketTracer packets({**surface, pyramid, ascent});
+        for (const float elevation : {15.3f, 40.2f, 65.1f}) {
+            OrbitView view;
+            view.elevationDeg = elevation;
+            view.distance = 1.0f;
+            const std::vector<Ray> rays = primaryRays(Camera(view, **surface, width, height));
+            std::vector<Hit> a(rays.size()), b(rays.size());
+            seconds(scalar, rays, a);  // warm-up, and the hits to compare
+            seconds(packets, rays, b);
+            size_t differences = 0, hits = 0;
+            for (size_t k = 0; k < rays.size(); ++k) {
+                differences += !same(a[k], b[k]);
+                hits += a[k].hit;
+            }
+            std::vector<double> ts, tp, ratios;
+            for (int r = 0; r < reps; ++r) {
+                ts.push_back(seconds(scalar, rays, a));
+                tp.push_back(seconds(packets, rays, b));
+                ratios.push_back(ts.back() / tp.back());
+            }
+            const double n = double(rays.size()) * 1e-6;
+            std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu |\n",
+                        walkName, source.c_str(), elevation, n / median(ts), n / median(tp),
+                        median(ratios), *std::min_element(ratios.begin(), ratios.end()),
+                        *std::max_element(ratios.begin(), ratios.end()), hits, differences);
+            std::fflush(stdout);
+        }
+        }
+    }
+    return 0;
+}

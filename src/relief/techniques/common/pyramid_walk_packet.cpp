@@ -1,0 +1,426 @@
+// The packet walk (pyramid_walk_packet.h): compiled once per Highway target (foreach_target.h
+// re-includes this file), with -ffp-contract=off (CMakeLists.txt) so that no target fuses a
+// multiply and an add the scalar walk keeps apart.
+// Targets: AVX-512 (16 lanes), AVX2 (8), SSE4 (4) and the portable fallback (1); SSSE3 and
+// AVX3_DL would add compile time and nothing this walk uses.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "relief/techniques/common/pyramid_walk_packet.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+#include <relief/techniques/common/pyramid_walk.h>
+#include <relief/techniques/common/pyramid_walk_packet.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+using DF = hn::CappedTag<float, 16>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+using MI = hn::Mask<DI>;
+constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
+
+// The lanes' state, structure of arrays: the cursor (WalkCursor) and the ray's constants
+// (WalkRay), read into vectors when lanes change rays; the scalar parts read them by lane.
+struct Packet {
+    alignas(64) float t[kLanes], exitX[kLanes], exitY[kLanes];
+    alignas(64) int32_t level[kLanes], px[kLanes], py[kLanes], baseX[kLanes], baseY[kLanes];
+    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dz[kLanes];
+    alignas(64) float invX[kLanes], invY[kLanes], invZ[kLanes], tExit[kLanes], slack[kLanes];
+    alignas(64) int32_t stepX[kLanes], stepY[kLanes], exitMaskX[kLanes], exitMaskY[kLanes];
+    alignas(64) int32_t active[kLanes], steps[kLanes], fetches[kLanes];
+    alignas(64) int32_t leafHit[kLanes], done[kLanes];
+    alignas(64) float leafT[kLanes];
+    WalkRay ray[kLanes];
+    size_t index[kLanes];
+};
+
+struct Walk {
+    const Surface& s;
+    const PyramidLayout& layout;
+    const float* values;
+    // Each level's first value in `values`, padded for whole-vector loads.
+    alignas(64) int32_t levelOffset[PyramidLayout::kMaxLevels + kLanes];
+    std::span<const Ray> rays;
+    std::span<Hit> hits;
+    size_t next = 0;
+
+    // Puts the batch's next ray that needs a walk into `lane` (as walkPyramid starts it), or
+    // parks the lane (a valid level-0 node, so that its gathers stay in the pyramid).
+    void fill(Packet& p, size_t lane) {
+        while (next < rays.size()) {
+            const size_t i = next++;
+            const Ray& ray = rays[i];
+            const RayInterval span = s.clip(ray);
+            if (span.empty()) {
+                hits[i] = Hit{};
+                continue;
+            }
+            const WalkRay r = makeWalkRay(ray, span, s, layout);
+            const WalkCursor c = startCursor(s, layout, r);
+            p.t[lane] = c.t;
+            p.exitX[lane] = c.exitX;
+            p.exitY[lane] = c.exitY;
+            p.level[lane] = c.level;
+            p.px[lane] = c.px;
+            p.py[lane] = c.py;
+            p.baseX[lane] = c.baseX;
+            p.baseY[lane] = c.baseY;
+            p.ox[lane] = r.o.x;
+            p.oy[lane] = r.o.y;
+            p.oz[lane] = r.o.z;
+            p.dz[lane] = r.d.z;
+            p.invX[lane] = r.invX;
+            p.invY[lane] = r.invY;
+            p.invZ[lane] = r.invZ;
+            p.tExit[lane] = r.tExit;
+            p.slack[lane] = r.slack;
+            p.stepX[lane] = r.stepX;
+            p.stepY[lane] = r.stepY;
+            p.exitMaskX[lane] = r.exitMaskX;
+            p.exitMaskY[lane] = r.exitMaskY;
+            p.active[lane] = -1;
+            p.steps[lane] = 0;
+            p.fetches[lane] = 0;
+            p.ray[lane] = r;
+            p.index[lane] = i;
+            return;
+        }
+        p.active[lane] = 0;
+        p.level[lane] = 0;
+        p.px[lane] = p.py[lane] = 0;
+    }
+
+    // walkPyramid's loop in every active lane until the batch is done; finished lanes take new
+    // rays. The lanes' state stays in registers, through memory only for the scalar parts.
+    template <Ascent kAscent>
+    void run(Packet& p) {
+        const DF df;
+        const DI di;
+        const size_t n = hn::Lanes(df);
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
+        const VF inf = hn::Set(df, kInfinity);
+        const VF edge = hn::Set(df, layout.edge);
+        const VI cellsX = hn::Set(di, layout.cellsX), cellsY = hn::Set(di, layout.cellsY);
+
+        MI act = hn::MaskFromVec(zeroI);
+        VF t = inf, exitX = inf, exitY = inf, ox = inf, oy = inf, oz = inf, dz = inf, invX = inf,
+           invY = inf, invZ = inf, tExit = inf, slack = inf;
+        VI level = zeroI, px = zeroI, py = zeroI, baseX = zeroI, baseY = zeroI, stepX = zeroI,
+           stepY = zeroI, exitMaskX = zeroI, exitMaskY = zeroI, steps = zeroI, fetches = zeroI;
+        const auto reload = [&] {
+            act = hn::MaskFromVec(hn::Load(di, p.active));
+            t = hn::Load(df, p.t);
+            exitX = hn::Load(df, p.exitX);
+            exitY = hn::Load(df, p.exitY);
+            level = hn::Load(di, p.level);
+            px = hn::Load(di, p.px);
+            py = hn::Load(di, p.py);
+            baseX = hn::Load(di, p.baseX);
+            baseY = hn::Load(di, p.baseY);
+            ox = hn::Load(df, p.ox);
+            oy = hn::Load(df, p.oy);
+            oz = hn::Load(df, p.oz);
+            dz = hn::Load(df, p.dz);
+            invX = hn::Load(df, p.invX);
+            invY = hn::Load(df, p.invY);
+            invZ = hn::Load(df, p.invZ);
+            tExit = hn::Load(df, p.tExit);
+            slack = hn::Load(df, p.slack);
+            stepX = hn::Load(di, p.stepX);
+            stepY = hn::Load(di, p.stepY);
+            exitMaskX = hn::Load(di, p.exitMaskX);
+            exitMaskY = hn::Load(di, p.exitMaskY);
+            steps = hn::Load(di, p.steps);
+            fetches = hn::Load(di, p.fetches);
+        };
+        // What changes during the walk (the rest only in `fill`).
+        const auto spill = [&] {
+            hn::Store(t, df, p.t);
+            hn::Store(exitX, df, p.exitX);
+            hn::Store(exitY, df, p.exitY);
+            hn::Store(level, di, p.level);
+            hn::Store(px, di, p.px);
+            hn::Store(py, di, p.py);
+            hn::Store(baseX, di, p.baseX);
+            hn::Store(baseY, di, p.baseY);
+            hn::Store(steps, di, p.steps);
+            hn::Store(fetches, di, p.fetches);
+        };
+        reload();
+        if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
+        for (;;) {
+        steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
+        fetches = hn::Add(fetches, hn::IfThenElseZero(act, oneI));
+
+        // nodeBox
+        const VI nx = (px >> level), ny = (py >> level);
+        const VI loX = (nx << level), loY = (ny << level);
+        // nodeExit: std::max(t, std::min({exitX, exitY, tExit}))
+        VF m = exitX;
+        m = hn::IfThenElse(hn::Lt(exitY, m), exitY, m);
+        m = hn::IfThenElse(hn::Lt(tExit, m), tExit, m);
+        const VF et = hn::IfThenElse(hn::Lt(t, m), m, t);
+
+        // MaxBound::enter: the node's max (TiledIndex<2>) + slack, then enterBelow.
+        // Tiles per row: TiledIndex<2>::of(widthAt(level)), computed rather than gathered (the
+        // gather of the node's value is the walk's critical path; it should wait on no other).
+        const VI tiles = hn::Add(hn::ShiftRight<2>(hn::Sub(cellsX, oneI) >> level), oneI);
+        const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(ny), tiles), hn::ShiftRight<2>(nx));
+        const VI three = hn::Set(di, 3);
+        const VI offset = hn::Add(
+            hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
+            hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
+        const VF top = hn::Add(hn::GatherIndex(df, values, offset), slack);
+        const VF zOut = hn::Add(oz, hn::Mul(et, dz));
+        const VF cross = hn::Mul(hn::Sub(top, oz), invZ);
+        const VF clamped =  // std::clamp(cross, t, et)
+            hn::IfThenElse(hn::Lt(cross, t), t, hn::IfThenElse(hn::Lt(et, cross), et, cross));
+        const VF downIn = hn::IfThenElse(hn::Gt(zOut, top), inf, clamped);
+        const VF upIn = hn::IfThenElse(hn::Le(hn::Add(oz, hn::Mul(t, dz)), top), t, inf);
+        const VF tIn = hn::IfThenElse(hn::Lt(dz, hn::Zero(df)), downIn, upIn);
+
+        const MI below = hn::And(act, hn::RebindMask(di, hn::Le(tIn, et)));
+        const MI atLeaf = hn::Eq(level, zeroI);
+        const MI descends = hn::AndNot(atLeaf, below);
+        const MI leaf = hn::And(below, atLeaf);
+
+        // Level 0: the reference's cell test, lane by lane (through the arrays).
+        MI leafHits = hn::RebindMask(di, hn::Lt(hn::Zero(df), hn::Zero(df)));  // none
+        if (!hn::AllFalse(di, leaf)) {
+            fetches = hn::Add(fetches, hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches)));
+            hn::Store(hn::VecFromMask(di, leaf), di, p.leafHit);
+            hn::Store(px, di, p.px);
+            hn::Store(py, di, p.py);
+            hn::Store(baseX, di, p.baseX);
+            hn::Store(baseY, di, p.baseY);
+            for (size_t k = 0; k < n; ++k) {
+                if (!p.leafHit[k]) continue;
+                WalkCursor c{};
+                c.px = p.px[k];
+                c.py = p.py[k];
+                c.baseX = p.baseX[k];
+                c.baseY = p.baseY[k];
+                const float tHit = leafHit(s, rays[p.index[k]], p.ray[k], c);
+                p.leafT[k] = tHit;
+                p.leafHit[k] = tHit < kInfinity ? -1 : 0;
+            }
+            leafHits = hn::MaskFromVec(hn::Load(di, p.leafHit));
+        }
+
+        // descend (settleHalf per axis; no texel ties: the pyramid is over cells)
+        const VI levelDown = hn::Sub(level, oneI);
+        const VI half = (oneI << hn::Max(levelDown, zeroI));  // level-0 lanes don't descend
+        VI pxD, pyD;
+        VF exitXD, exitYD;
+        settleHalf(tIn, edge, ox, invX, stepX, baseX, loX, half, cellsX, exitX, pxD, exitXD);
+        settleHalf(tIn, edge, oy, invY, stepY, baseY, loY, half, cellsY, exitY, pyD, exitYD);
+
+        // advance<kAscent>, in the lanes that neither descend nor hit
+        const MI advances = hn::AndNot(hn::Or(descends, leafHits), act);
+        const MI pastEnd = hn::RebindMask(di, hn::Ge(et, tExit));
+        const MI alongX = hn::RebindMask(di, hn::Le(exitX, exitY));
+        const VI size = (oneI << level);
+        const VI toX = hn::IfThenElse(hn::Gt(stepX, zeroI), hn::Min(hn::Add(loX, size), cellsX),
+                                      hn::Sub(loX, oneI));
+        const VI toY = hn::IfThenElse(hn::Gt(stepY, zeroI), hn::Min(hn::Add(loY, size), cellsY),
+                                      hn::Sub(loY, oneI));
+        const VI from = hn::IfThenElse(alongX, px, py);
+        const VI to = hn::IfThenElse(alongX, toX, toY);
+        const VI cells = hn::IfThenElse(alongX, cellsX, cellsY);
+        const VI step = hn::IfThenElse(alongX, stepX, stepY);
+        const MI inside = hn::AndNot(hn::Lt(to, zeroI), hn::Lt(to, cells));
+        const MI seam = layout.repeat ? hn::Not(inside) : hn::AndNot(inside, inside);  // none
+        const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
+        const VI toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
+        const VI baseShift = hn::IfThenElseZero(seam, shift);
+        const VI topLevel = hn::Set(di, layout.topLevel());
+        VI levelA;  // levelAfterStep
+        if constexpr (kAscent == Ascent::Parent) {
+            const VI levelUp = hn::Add(level, oneI);
+            const MI newParent = hn::Or(seam, hn::Ne((from >> levelUp), (to >> levelUp)));
+            levelA = hn::IfThenElse(newParent, hn::Min(levelUp, topLevel), level);
+        } else {
+            // bit_width(from ^ to) - 1: the exponent of the float (exact: indices < 2^23, and
+            // from ^ to ≥ 1 in every lane that stays)
+            const VI bits = hn::BitCast(di, hn::ConvertTo(df, hn::Xor(from, to)));
+            const VI highest = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
+            levelA = hn::IfThenElse(seam, topLevel, highest);
+        }
+        const MI ascended = hn::Ne(levelA, level);
+        const VI pxA = hn::IfThenElse(alongX, toWrapped, px);
+        const VI pyA = hn::IfThenElse(alongX, py, toWrapped);
+        const VI baseXA = hn::Add(baseX, hn::IfThenElseZero(alongX, baseShift));
+        const VI baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
+        const VF exitXA = hn::IfThenElse(
+            hn::RebindMask(df, hn::Or(alongX, ascended)),
+            sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
+            exitX);
+        const VF exitYA = hn::IfThenElse(
+            hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
+            sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
+            exitY);
+        const MI leaves =
+            hn::And(advances, layout.repeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
+
+        // The new state: descended, advanced, or (hit, left, parked) as it was.
+        const MF descendsF = hn::RebindMask(df, descends), advancesF = hn::RebindMask(df, advances);
+        const auto pick = [&](auto d, auto mDown, auto mAdvance, auto down, auto advanced,
+                              auto same) {
+            (void)d;
+            return hn::IfThenElse(mDown, down, hn::IfThenElse(mAdvance, advanced, same));
+        };
+        t = pick(df, descendsF, advancesF, tIn, et, t);
+        exitX = pick(df, descendsF, advancesF, exitXD, exitXA, exitX);
+        exitY = pick(df, descendsF, advancesF, exitYD, exitYA, exitY);
+        level = pick(di, descends, advances, levelDown, levelA, level);
+        px = pick(di, descends, advances, pxD, pxA, px);
+        py = pick(di, descends, advances, pyD, pyA, py);
+        baseX = hn::IfThenElse(advances, baseXA, baseX);
+        baseY = hn::IfThenElse(advances, baseYA, baseY);
+
+        // Rays done: a cell hit, or leaving the box (the floor rule decides).
+        const MI done = hn::Or(leafHits, leaves);
+        if (hn::AllFalse(di, done)) continue;
+        spill();
+        hn::Store(hn::VecFromMask(di, done), di, p.done);
+        hn::Store(hn::VecFromMask(di, leafHits), di, p.leafHit);
+        for (size_t k = 0; k < n; ++k) {
+            if (!p.done[k]) continue;
+            const size_t i = p.index[k];
+            const Ray& ray = rays[i];
+            if (p.leafHit[k])
+                hits[i] = makeHit(ray, p.leafT[k], p.steps[k], p.fetches[k]);
+            else
+                hits[i] = leavesThroughFloor(p.ray[k])
+                              ? makeHit(ray, p.ray[k].tExit, p.steps[k], p.fetches[k])
+                              : makeMiss(p.steps[k], p.fetches[k]);
+            fill(p, k);
+        }
+        bool any = false;
+        for (size_t k = 0; k < n; ++k) any = any || p.active[k] != 0;
+        if (!any) return;
+        reload();
+        }
+    }
+
+    // table[level] by lane: lookups in registers over the table's whole vectors (a handful of
+    // levels per vector), no memory gather.
+    VI lookupLevel(const int32_t* table, VI level) const {
+        const DI di;
+        const int n = int(hn::Lanes(di));
+        VI result = hn::Zero(di);
+        for (int first = 0; first < layout.levels; first += n) {
+            const VI k = hn::Sub(level, hn::Set(di, first));
+            const MI here = hn::AndNot(hn::Lt(k, hn::Zero(di)), hn::Lt(k, hn::Set(di, n)));
+            const VI v = hn::TableLookupLanes(
+                hn::Load(di, table + first), hn::IndicesFromVec(di, hn::And(k, hn::Set(di, n - 1))));
+            result = hn::IfThenElse(here, v, result);
+        }
+        return result;
+    }
+
+    // settleHalf (pyramid_walk.h) across lanes: the child's index and, where it leaves through
+    // the middle, its exit.
+    static void settleHalf(VF t, VF edge, VF origin, VF inverse, VI step, VI base, VI lo, VI half,
+                           VI cells, VF exitT, VI& index, VF& childExit) {
+        const DF df;
+        const DI di;
+        const VI zeroI = hn::Zero(di);
+        const MI exists = hn::Lt(hn::Add(lo, half), cells);
+        const VF middle = hn::Add(hn::ConvertTo(df, hn::Add(hn::Add(base, lo), half)), edge);
+        const MI still = hn::Eq(step, zeroI);
+        const MI stillHigh = hn::And(exists, hn::RebindMask(di, hn::Ge(origin, middle)));
+        const VF tMiddle = hn::Mul(hn::Sub(middle, origin), inverse);
+        const MI crossed = hn::RebindMask(di, hn::Ge(t, tMiddle));
+        const MI backward = hn::Lt(step, zeroI);
+        const MI movingHigh = hn::And(exists, hn::Xor(crossed, backward));
+        const MI high = hn::Or(hn::And(still, stillHigh), hn::AndNot(still, movingHigh));
+        index = hn::Add(lo, hn::IfThenElseZero(high, half));
+        const MI throughMiddle =
+            hn::AndNot(still, hn::And(exists, hn::Not(hn::Xor(movingHigh, backward))));
+        childExit = hn::IfThenElse(hn::RebindMask(df, throughMiddle), tMiddle, exitT);
+    }
+
+    // sideExitT across lanes.
+    static VF sideExit(VI p, VI level, VI cells, VI base, VI step, VI exitMask, VF edge, VF origin,
+                       VF inverse) {
+        const DF df;
+        const DI di;
+        const VI lo = ((p >> level) << level);
+        const VI hi = hn::Min(hn::Add(lo, (hn::Set(di, 1) << level)), cells);
+        const VI edgeCell = hn::Add(hn::Add(base, lo), hn::And(hn::Sub(hi, lo), exitMask));
+        const VF tEdge = hn::Mul(hn::Sub(hn::Add(hn::ConvertTo(df, edgeCell), edge), origin), inverse);
+        return hn::IfThenElse(hn::RebindMask(df, hn::Eq(step, hn::Zero(di))),
+                              hn::Set(df, kInfinity), tEdge);
+    }
+};
+
+void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<const Ray> rays,
+                 std::span<Hit> hits, Ascent ascent) {
+    Walk walk{surface, pyramid.layout(), pyramid.values(), {}, rays, hits};
+    for (int level = 0; level < pyramid.layout().levels; ++level) {
+        walk.levelOffset[level] = int32_t(pyramid.levelValues(level) - pyramid.values());
+        // what run computes in place of a lookup
+        RELIEF_CHECK(pyramid.levelTilesPerRow(level) ==
+                     (((pyramid.layout().cellsX - 1) >> level) >> 2) + 1);
+    }
+    Packet p{};
+    for (size_t k = 0; k < kLanes; ++k) {
+        p.active[k] = p.level[k] = p.px[k] = p.py[k] = 0;
+        if (k < hn::Lanes(DF())) walk.fill(p, k);
+    }
+    if (ascent == Ascent::Ancestor)
+        walk.run<Ascent::Ancestor>(p);
+    else
+        walk.run<Ascent::Parent>(p);
+}
+
+const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+HWY_EXPORT(WalkPackets);
+HWY_EXPORT(TargetName);
+
+bool packetWalkSupports(const MaxPyramid& pyramid) {
+    // Gather offsets are int32; Ancestor's bit_width goes through a float (exact below 2^23).
+    const PyramidLayout& layout = pyramid.layout();
+    return !layout.texels() && layout.cellsX < (1 << 22) && layout.cellsY < (1 << 22) &&
+           pyramid.bytes() / sizeof(float) < size_t(std::numeric_limits<int32_t>::max());
+}
+
+void walkPyramidPackets(const Surface& surface, const MaxPyramid& pyramid,
+                        std::span<const Ray> rays, std::span<Hit> hits, Ascent ascent) {
+    RELIEF_CHECK(ascent == Ascent::Parent || ascent == Ascent::Ancestor);
+    HWY_DYNAMIC_DISPATCH(WalkPackets)(surface, pyramid, rays, hits, ascent);
+}
+
+const char* packetWalkTarget() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
+
+bool packetWalkEnabled() {
+    static const bool enabled = [] {
+        const char* value = std::getenv("RELIEF_PACKETS");
+        return value == nullptr || std::strcmp(value, "0") != 0;
+    }();
+    return enabled;
+}
+
+}  // namespace relief
+#endif  // HWY_ONCE
