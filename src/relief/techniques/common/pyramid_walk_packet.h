@@ -13,6 +13,7 @@
 //   the scalar walk. Targets: AVX-512, AVX2, SSE4, a portable fallback, picked at run time.
 // Cost: per ray the scalar setup, cell tests and end stay; the node steps cost one vector
 //   iteration per packet (docs/benchmarks-packets.md: about 1.1–1.5× over the scalar walk).
+#include <relief/core/isa.h>
 #include <relief/core/math.h>
 #include <relief/techniques/common/max_pyramid.h>
 #include <relief/techniques/common/pyramid_walk.h>
@@ -35,5 +36,22 @@ const char* packetWalkTarget();
 
 // False when the environment sets RELIEF_PACKETS=0 (A/B against the scalar walk); read once.
 bool packetWalkEnabled();
+
+// A pyramid row's default walk over a batch: SIMD packets, or the scalar walk (BatchTracer, per
+// ISA) when the tracers' ISA is baseline (--isa / RELIEF_ISA=baseline: the portable code as a
+// whole, an A/B against it). The same hits either way.
+template <class Impl, Ascent kAscent>
+class PacketBatchTracer final : public Tracer {
+public:
+    explicit PacketBatchTracer(Impl impl) : m_scalar(std::move(impl)) {}
+    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        if (activeIsa() == Isa::Baseline) return m_scalar.traceBatch(rays, hits);
+        walkPyramidPackets(m_scalar.impl().surface(), m_scalar.impl().pyramid(), rays, hits,
+                           kAscent);
+    }
+
+private:
+    BatchTracer<Impl> m_scalar;
+};
 
 }  // namespace relief

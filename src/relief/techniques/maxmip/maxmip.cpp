@@ -2,21 +2,6 @@
 #include <relief/techniques/maxmip/maxmip.h>
 
 namespace relief {
-namespace {
-
-// The default walk over a batch in SIMD packets (the same hits as MaxmipTracer::trace).
-class MaxmipPacketTracer final : public Tracer {
-public:
-    explicit MaxmipPacketTracer(MaxmipTracer impl) : m_impl(std::move(impl)) {}
-    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        walkPyramidPackets(m_impl.surface(), m_impl.pyramid(), rays, hits, Ascent::Ancestor);
-    }
-
-private:
-    MaxmipTracer m_impl;
-};
-
-}  // namespace
 
 Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"),
@@ -27,7 +12,9 @@ Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input) {
     const bool packets = limits.maxSteps == 0 && !limits.boxSurface &&
                          pyramidBits(input.params) == 32 && packetWalkSupports(tracer.pyramid()) &&
                          packetWalkEnabled();
-    if (packets) return std::unique_ptr<Tracer>(new MaxmipPacketTracer(std::move(tracer)));
+    if (packets)
+        return std::unique_ptr<Tracer>(
+            new PacketBatchTracer<MaxmipTracer, Ascent::Ancestor>(std::move(tracer)));
     return makeBatchTracer(std::move(tracer));
 }
 

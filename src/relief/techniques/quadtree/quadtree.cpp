@@ -2,21 +2,6 @@
 #include <relief/techniques/quadtree/quadtree.h>
 
 namespace relief {
-namespace {
-
-// The default walk over a batch in SIMD packets (the same hits as QuadtreeTracer::trace).
-class QuadtreePacketTracer final : public Tracer {
-public:
-    explicit QuadtreePacketTracer(QuadtreeTracer impl) : m_impl(std::move(impl)) {}
-    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        walkPyramidPackets(m_impl.surface(), m_impl.pyramid(), rays, hits);
-    }
-
-private:
-    QuadtreeTracer m_impl;
-};
-
-}  // namespace
 
 Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     const WalkLimits limits{input.params.getInt("max-steps"),
@@ -28,7 +13,9 @@ Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     const bool packets = ascent == Ascent::Parent && limits.maxSteps == 0 &&
                          !limits.boxSurface && pyramidBits(input.params) == 32 &&
                          packetWalkSupports(tracer.pyramid()) && packetWalkEnabled();
-    if (packets) return std::unique_ptr<Tracer>(new QuadtreePacketTracer(std::move(tracer)));
+    if (packets)
+        return std::unique_ptr<Tracer>(
+            new PacketBatchTracer<QuadtreeTracer, Ascent::Parent>(std::move(tracer)));
     return makeBatchTracer(std::move(tracer));
 }
 

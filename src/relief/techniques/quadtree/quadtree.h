@@ -30,7 +30,8 @@
 //     iterations it reports a hit at the cursor.
 // Packets: the defaults (ascend 1, max-steps 0, box-surface 0, bits 32) trace a batch 8 or 16 rays
 //   at a time in SIMD lanes (common/pyramid_walk_packet.h), bit-identical to the scalar walk;
-//   RELIEF_PACKETS=0 in the environment keeps the scalar walk (A/B).
+//   RELIEF_PACKETS=0 in the environment, or the tracers' ISA baseline (RELIEF_ISA / --isa,
+//   core/isa.h), keeps the scalar walk (A/B).
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/technique.h>
 
