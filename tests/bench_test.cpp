@@ -421,7 +421,7 @@ TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
     EXPECT_EQ(rowsByMap["fbm:1032x1024:1"], (std::set<std::string>{"embree-1", "embree-16", "exact"}));
     const std::string page = readText(out / "report.md");
     ASSERT_NE(page.find("## CPU peers: targets"), std::string::npos);
-    EXPECT_NE(page.find(fmt::format("ISA: {}", tracerIsa())), std::string::npos);
+    EXPECT_NE(page.find(fmt::format("ISA: {}", relief::tracerIsa())), std::string::npos);
     int judged = 0, notRun = 0;
     std::istringstream lines(page);
     for (std::string line; std::getline(lines, line);) {
