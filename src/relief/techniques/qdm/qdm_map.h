@@ -56,6 +56,9 @@ struct QdmBuildParams {
     bool warmStart = true;
     // variant=1: the paper's own map (qdm_paper.h), built by buildQdmPaper.
     bool paper = false;
+    // variant=1: find the cone from its last record and check it instead of ring by ring (the
+    // same map; tests compare on/off bit for bit).
+    bool skipRings = true;
     static QdmBuildParams from(const ParamValues& params);
 };
 
