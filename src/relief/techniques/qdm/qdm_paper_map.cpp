@@ -112,22 +112,29 @@ struct Node {
 int64_t nearestOffset(int64_t lo, int64_t hi) { return std::max<int64_t>({0, lo, -hi}); }
 int64_t farthestOffset(int64_t lo, int64_t hi) { return std::max(std::abs(lo), std::abs(hi)); }
 
+// What a texel hands to the next one (PaperSearch::texel).
+struct PaperGuess {
+    int ring = 0;        // where its cone loop broke
+    int x = -1, y = -1;  // its steepest sample up to there
+};
+
 class PaperSearch {
 public:
     PaperSearch(const Surface& s, const QdmBuildParams& params)
         : m_s(s), m_params(params), m_pyramid(s), m_coneHeight(coneHeightOf(s, params)),
           m_repeat(s.edge() == EdgeMode::Repeat) {}
 
-    // `guess`: the ring the previous (neighbouring) texel's cone ended on, or 0; it only picks
-    // where the search for the last record probes first. On return it holds this texel's.
-    QdmTexel texel(int u, int v, int& guess) const {
+    // `guess`: the previous (neighbouring) texel's break ring and steepest sample; they only
+    // pick where the search for the last record probes first and prune it. On return: this
+    // texel's.
+    QdmTexel texel(int u, int v, PaperGuess& guess) const {
         const float h = m_s.sampleZ(u, v);
         const int last = lastRing(m_s, u, v, m_params);
         std::pair<float, float> cone;
         if (!(m_params.skipRings && coneFromLastRecord(u, v, h, last, guess, cone)))
             cone = coneOf(u, v, h, last);
         const auto [a, b] = cone;
-        guess = int(a);
+        guess.ring = int(a);
         return {a, b, maximizeC(u, v, h, last, a, b), h};
     }
 
@@ -229,14 +236,27 @@ private:
         double slope = 0.0;  // max of v / ring over the samples with v > 0 (0: none)
         int ring = 0;        // its ring, the nearest among equal slopes
         float v = 0.0f;      // its height above the apex: m(ring)
+        int x = -1, y = -1;  // the sample
     };
 
-    // Rings 1 … maxRing: branch and bound, nodes by top / (their nearest ring).
-    Steepest steepest(int u, int v, float h, int maxRing) const {
+    // Sample (x, y) from apex (u, v) at height h, as a leaf of the search sees it (its nearest
+    // copy); slope 0 when it is no candidate within maxRing.
+    Steepest sampleSlope(int u, int v, float h, int x, int y, int maxRing) const {
+        int64_t dx = int64_t(x) - u, dy = int64_t(y) - v;
+        if (m_repeat) dx = wrapOffset(dx, m_s.width()), dy = wrapOffset(dy, m_s.height());
+        const int ring = ringOf(dx * dx + dy * dy);
+        const float top = m_pyramid.at(0, x, y) - h;
+        if (ring < 1 || ring > maxRing || !(top > 0.0f)) return {};
+        return {double(top) / double(ring), ring, top, x, y};
+    }
+
+    // Rings 1 … maxRing: branch and bound, nodes by top / (their nearest ring). `start`: a
+    // candidate already known (it only prunes: ties still go to the nearer ring).
+    Steepest steepest(int u, int v, float h, int maxRing, Steepest start) const {
         thread_local std::vector<Node> heap;
         heap.clear();
         auto lower = [](const Node& p, const Node& q) { return p.key < q.key; };
-        Steepest best;
+        Steepest best = start;
         auto push = [&](Node n) {
             if (!holdsNearest(n)) return;
             const float top = m_pyramid.at(n.level, n.x, n.y) - h;
@@ -265,7 +285,7 @@ private:
             const float top = m_pyramid.at(0, n.x, n.y) - h;
             const double slope = double(top) / double(ring);
             if (slope > best.slope || (slope == best.slope && ring < best.ring))
-                best = {slope, ring, top};
+                best = {slope, ring, top, n.x, n.y};
         }
         return best;
     }
@@ -302,27 +322,33 @@ private:
     }
 
     // The cone by (1)–(4) above; false when a condition fails (then the rings are walked).
-    bool coneFromLastRecord(int u, int v, float h, int last, int guess,
+    bool coneFromLastRecord(int u, int v, float h, int last, PaperGuess& guess,
                             std::pair<float, float>& cone) const {
         if (last < 1) return false;
         const double H = double(m_coneHeight);
+        // The neighbour's steepest sample, and each probe's, start the probes they fit.
+        const Steepest near = guess.x >= 0 ? sampleSlope(u, v, h, guess.x, guess.y, last)
+                                           : Steepest{};
         std::vector<std::pair<int, Steepest>> probes;  // a handful per texel
         auto G = [&](int i) {
-            for (const auto& [ring, s] : probes)
+            Steepest start = near.ring <= i ? near : Steepest{};
+            for (const auto& [ring, s] : probes) {
                 if (ring == i) return s;
-            probes.push_back({i, steepest(u, v, h, i)});
+                if (s.ring <= i && s.slope > start.slope) start = s;
+            }
+            probes.push_back({i, steepest(u, v, h, i, start)});
             return probes.back().second;
         };
         auto breaks = [&](int i) { return G(i).slope * double(i) > H; };
         // The first i ≤ last with i·G_i > H (last when none): lo fails, hi holds or is last.
         int lo = 0, hi = last;
-        if (guess >= 1 && guess < last) {
-            if (breaks(guess)) {
-                hi = guess;
-                if (guess > 1 && !breaks(guess - 1)) lo = guess - 1;
+        if (const int g = guess.ring; g >= 1 && g < last) {
+            if (breaks(g)) {
+                hi = g;
+                if (g > 1 && !breaks(g - 1)) lo = g - 1;
             } else {
-                lo = guess;
-                if (breaks(guess + 1)) hi = guess + 1;
+                lo = g;
+                if (breaks(g + 1)) hi = g + 1;
             }
         }
         while (hi - lo > 1) {
@@ -330,6 +356,7 @@ private:
             (breaks(mid) ? hi : lo) = mid;
         }
         const Steepest record = G(hi);
+        guess.x = record.x, guess.y = record.y;
         const int l = record.slope > 0.0 ? record.ring : 0;
         const double before = l >= 2 ? G(l - 1).slope : 0.0;
         auto delta = [](int k) {
@@ -402,7 +429,7 @@ template <class PerTexel>
 std::vector<QdmTexel> buildPaperRows(const Surface& s, PerTexel&& perTexel) {
     std::vector<QdmTexel> texels(size_t(s.width()) * size_t(s.height()));
     parallelRanges(s.height(), 1, [&](int64_t begin, int64_t end) {
-        int guess = 0;
+        PaperGuess guess;
         for (int v = int(begin); v < int(end); ++v)
             for (int k = 0; k < s.width(); ++k) {
                 const int u = (v - int(begin)) % 2 == 0 ? k : s.width() - 1 - k;
@@ -417,7 +444,7 @@ std::vector<QdmTexel> buildPaperRows(const Surface& s, PerTexel&& perTexel) {
 std::vector<QdmTexel> buildQdmPaper(const Surface& surface, const QdmBuildParams& params) {
     const PaperSearch search(surface, params);
     return buildPaperRows(surface,
-                          [&](int u, int v, int& guess) { return search.texel(u, v, guess); });
+                          [&](int u, int v, PaperGuess& guess) { return search.texel(u, v, guess); });
 }
 
 // §3.1 as written: m(d) from every sample of the map, the cone loop, then c over the rings (or
@@ -425,7 +452,7 @@ std::vector<QdmTexel> buildQdmPaper(const Surface& surface, const QdmBuildParams
 std::vector<QdmTexel> buildQdmPaperBruteForce(const Surface& s, const QdmBuildParams& params) {
     const float coneHeight = coneHeightOf(s, params);
     const bool repeat = s.edge() == EdgeMode::Repeat;
-    return buildPaperRows(s, [&](int u, int v, int&) {
+    return buildPaperRows(s, [&](int u, int v, PaperGuess&) {
         const float h = s.sampleZ(u, v);
         const int last = lastRing(s, u, v, params);
         std::vector<float> m(size_t(last) + 1, -kInfinity);
