@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace relief {
 
@@ -112,9 +113,17 @@ struct Node {
 int64_t nearestOffset(int64_t lo, int64_t hi) { return std::max<int64_t>({0, lo, -hi}); }
 int64_t farthestOffset(int64_t lo, int64_t hi) { return std::max(std::abs(lo), std::abs(hi)); }
 
+// Pops of the ring walk before the cone is sought from its last record instead (the same
+// result): long after a neighbour the walk served, short after one it did not (rough ground
+// ends within a few rings, gently rising ground never soon). Measured on fbm, peaks6 and
+// Colorado at 256²–512² against 64–1024.
+constexpr int64_t kWalkBudgetAfterWalk = 1024, kWalkBudgetAfterProbes = 32;
+constexpr int64_t kUnlimited = std::numeric_limits<int64_t>::max();
+
 // What a texel hands to the next one (PaperSearch::texel).
 struct PaperGuess {
     int ring = 0;        // where its cone loop broke
+    bool walked = true;  // its cone came from the ring walk within budget
     int x = -1, y = -1;  // its steepest sample up to there
 };
 
@@ -130,9 +139,16 @@ public:
     QdmTexel texel(int u, int v, PaperGuess& guess) const {
         const float h = m_s.sampleZ(u, v);
         const int last = lastRing(m_s, u, v, m_params);
-        std::pair<float, float> cone;
-        if (!(m_params.skipRings && coneFromLastRecord(u, v, h, last, guess, cone)))
-            cone = coneOf(u, v, h, last);
+        // Rough ground: the walk ends within a few rings, cheaper than the probes.
+        const int64_t budget = !m_params.skipRings            ? kUnlimited
+                               : m_params.ringWalkBudget >= 0 ? m_params.ringWalkBudget
+                               : guess.walked                 ? kWalkBudgetAfterWalk
+                                                              : kWalkBudgetAfterProbes;
+        bool over = false;
+        std::pair<float, float> cone = coneOf(u, v, h, last, budget, over);
+        guess.walked = !over;
+        if (over && !coneFromLastRecord(u, v, h, last, guess, cone))
+            cone = coneOf(u, v, h, last, kUnlimited, over);
         const auto [a, b] = cone;
         guess.ring = int(a);
         return {a, b, maximizeC(u, v, h, last, a, b), h};
@@ -183,7 +199,11 @@ private:
     // The cone: nodes nearest first; a ring's samples are all out of the heap before the loop
     // asks for the next ring. Nodes at or below the apex, or below the running slope at their
     // nearest ring, cannot raise b on any later ring and are dropped.
-    std::pair<float, float> coneOf(int u, int v, float h, int last) const {
+    // `budget`: pops before it gives up (sets `over`; the pair is then meaningless).
+    std::pair<float, float> coneOf(int u, int v, float h, int last, int64_t budget,
+                                   bool& over) const {
+        int64_t pops = 0;
+        over = false;
         thread_local std::vector<Node> heap;
         heap.clear();
         auto nearer = [](const Node& p, const Node& q) { return p.nearest > q.nearest; };
@@ -198,6 +218,10 @@ private:
             float best = -kInfinity;
             const int64_t limit = int64_t(i + 1) * (i + 1);
             while (!heap.empty() && heap.front().nearest < limit) {
+                if (++pops > budget) {
+                    over = true;
+                    return kInfinity;  // ends the loop
+                }
                 std::pop_heap(heap.begin(), heap.end(), nearer);
                 const Node n = heap.back();
                 heap.pop_back();

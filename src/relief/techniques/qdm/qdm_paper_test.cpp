@@ -29,12 +29,15 @@ TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
                         params.paper = true;
                         const auto brute = buildQdmPaperBruteForce(*s, params);
                         const auto fast = buildQdmPaper(*s, params);
+                        params.ringWalkBudget = 0;  // the cone from its last record everywhere
+                        const auto probed = buildQdmPaper(*s, params);
                         params.convexBound = true;
                         const auto convex = buildQdmPaperBruteForce(*s, params);
                         ASSERT_EQ(fast.size(), brute.size());
                         size_t differ = 0;
                         for (size_t k = 0; k < fast.size(); ++k) {
                             differ += std::memcmp(&fast[k], &brute[k], sizeof(QdmTexel)) != 0;
+                            differ += std::memcmp(&probed[k], &brute[k], sizeof(QdmTexel)) != 0;
                             // The same c in exact arithmetic (the parabola is concave).
                             ASSERT_EQ(convex[k].a, brute[k].a);
                             ASSERT_EQ(convex[k].b, brute[k].b);
@@ -47,8 +50,8 @@ TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
                     }
 }
 
-// The cone from its last record (the default) against the ring-by-ring walk: the same map bit
-// for bit, on generators, adversarial maps (a bowl and a ramp rising every ring, gently rising
+// The cone from its last record (the default, and with no ring walk before it) against the
+// ring-by-ring walk: the same map bit for bit, on generators, adversarial maps (a bowl and a ramp rising every ring, gently rising
 // ground whose ring slopes tie within the rounding bound, terraces and planes with exact ties,
 // flat sea beside land, a lone spike) and crops of real terrain, clamp and repeat, several
 // height ratios and max-distance.
@@ -106,14 +109,18 @@ TEST(QdmPaperMap, SkippingRingsChangesNothing) {
                     params.skipRings = false;
                     const auto walked = buildQdmPaper(s, params);
                     params.skipRings = true;
-                    const auto skipped = buildQdmPaper(s, params);
-                    ASSERT_EQ(walked.size(), skipped.size());
-                    size_t differ = 0;
-                    for (size_t k = 0; k < walked.size(); ++k)
-                        differ += std::memcmp(&walked[k], &skipped[k], sizeof(QdmTexel)) != 0;
-                    texels += walked.size();
-                    EXPECT_EQ(differ, 0u) << name << " " << toString(edge) << " ratio " << ratio
-                                          << " max-distance " << maxDistance;
+                    for (int64_t budget : {int64_t(-1), int64_t(0)}) {  // default; probes only
+                        params.ringWalkBudget = budget;
+                        const auto skipped = buildQdmPaper(s, params);
+                        ASSERT_EQ(walked.size(), skipped.size());
+                        size_t differ = 0;
+                        for (size_t k = 0; k < walked.size(); ++k)
+                            differ += std::memcmp(&walked[k], &skipped[k], sizeof(QdmTexel)) != 0;
+                        texels += walked.size();
+                        EXPECT_EQ(differ, 0u) << name << " " << toString(edge) << " ratio " << ratio
+                                              << " max-distance " << maxDistance << " budget "
+                                              << budget;
+                    }
                 }
     EXPECT_GT(texels, 100000u);
 }
