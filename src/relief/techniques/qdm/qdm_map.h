@@ -56,6 +56,11 @@ struct QdmBuildParams {
     bool warmStart = true;
     // variant=1: the paper's own map (qdm_paper.h), built by buildQdmPaper.
     bool paper = false;
+    // variant=1: find the cone from its last record and check it instead of ring by ring (the
+    // same map; tests compare on/off bit for bit), after a ring walk of this many pops (-1: as
+    // the neighbour suggests; 0: never walk first, so tests reach the check on small maps).
+    bool skipRings = true;
+    int64_t ringWalkBudget = -1;
     static QdmBuildParams from(const ParamValues& params);
 };
 

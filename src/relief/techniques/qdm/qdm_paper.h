@@ -20,12 +20,17 @@
 //   meets it with α ≤ 1, else the smaller root of the parabola (∞ when there is none). The hit
 //   is the position where the loop ends; leaving the box is a miss (or the floor). No exact
 //   finish.
-// Build: buildQdmPaper walks a max pyramid of the samples nearest ring first for the cone
-//   (nodes that cannot beat the running slope dropped), then branch and bound on c (nodes by
-//   the largest c_j their samples could give); equal to the paper's Θ(N⁴) builder
-//   (buildQdmPaperBruteForce: every sample for every texel) to the bit (qdm_paper_test.cpp).
-//   Cost grows with the cone loop (gently rising ground, a record every ring: ≈ 10× fbm's;
-//   timings in docs/qdm.md). Memory: the sample pyramid (≈ 4/3 floats) + 16 bytes per texel.
+// Build: buildQdmPaper finds the cone from its last record: the break ring by bisection, each
+//   probe a branch and bound for the steepest sample (v / ring) of a max pyramid of the samples,
+//   then proves that the float loop takes that path (rounding bound, one pruned search for a
+//   missed record; qdm_paper_map.cpp), else walks the rings nearest first as before (nodes that
+//   cannot beat the running slope dropped). Rough ground ends the walk within a few rings, so
+//   the walk runs first under a budget of pops. Then branch and bound on c (nodes by the largest
+//   c_j their samples could give). Equal to the paper's Θ(N⁴) builder
+//   (buildQdmPaperBruteForce: every sample for every texel) and to the ring walk to the bit
+//   (qdm_paper_test.cpp). Cost: a few probes per texel instead of Θ(a²) samples on gently
+//   rising ground (peaks6 1024², 2 threads: 46 CPU-s, was > 224; rough maps unchanged;
+//   docs/benchmarks-bakes.md). Memory: the sample pyramid (≈ 4/3 floats) + 16 bytes per texel.
 // Departures: rising rays (shadow rays; the paper traces view rays only) take the reference
 //   walk; a step never moves the ray back before its box entry; rays enter through any face.
 #include <relief/surface/cell_cursor.h>

@@ -4,12 +4,16 @@
 #include <support/cone_test_support.h>
 
 #include <relief/core/generators.h>
+#include <relief/io/heightfield_crop.h>
+#include <relief/io/heightfield_io.h>
 #include <relief/techniques/qdm/qdm_paper.h>
 #include <relief/techniques/registry.h>
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
+#include <functional>
 
 namespace relief {
 namespace {
@@ -25,12 +29,15 @@ TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
                         params.paper = true;
                         const auto brute = buildQdmPaperBruteForce(*s, params);
                         const auto fast = buildQdmPaper(*s, params);
+                        params.ringWalkBudget = 0;  // the cone from its last record everywhere
+                        const auto probed = buildQdmPaper(*s, params);
                         params.convexBound = true;
                         const auto convex = buildQdmPaperBruteForce(*s, params);
                         ASSERT_EQ(fast.size(), brute.size());
                         size_t differ = 0;
                         for (size_t k = 0; k < fast.size(); ++k) {
                             differ += std::memcmp(&fast[k], &brute[k], sizeof(QdmTexel)) != 0;
+                            differ += std::memcmp(&probed[k], &brute[k], sizeof(QdmTexel)) != 0;
                             // The same c in exact arithmetic (the parabola is concave).
                             ASSERT_EQ(convex[k].a, brute[k].a);
                             ASSERT_EQ(convex[k].b, brute[k].b);
@@ -41,6 +48,81 @@ TEST(QdmPaperMap, FastBuilderEqualsThePapersBuilder) {
                             << g << " " << toString(edge) << " ratio " << ratio << " max-distance "
                             << maxDistance << " " << w << "x" << h;
                     }
+}
+
+// The cone from its last record (the default, and with no ring walk before it) against the
+// ring-by-ring walk: the same map bit for bit, on generators, adversarial maps (a bowl and a ramp rising every ring, gently rising
+// ground whose ring slopes tie within the rounding bound, terraces and planes with exact ties,
+// flat sea beside land, a lone spike) and crops of real terrain, clamp and repeat, several
+// height ratios and max-distance.
+TEST(QdmPaperMap, SkippingRingsChangesNothing) {
+    using Field = std::function<float(int, int, int, int)>;
+    auto fromFunction = [](int w, int h, const Field& f) {
+        Heightfield hf{w, h, std::vector<float>(size_t(w) * size_t(h))};
+        for (int j = 0; j < h; ++j)
+            for (int i = 0; i < w; ++i) hf.at(i, j) = f(i, j, w, h);
+        return std::make_shared<const Heightfield>(std::move(hf));
+    };
+    auto radius2 = [](int i, int j, int w, int h) {
+        const float dx = float(i - w / 2), dy = float(j - h / 2);
+        return dx * dx + dy * dy;
+    };
+    auto crop = [](const std::string& file, int x, int y, int n) {
+        auto hf = loadHeightfield(std::string(RELIEF_SOURCE_DIR) + "/data/" + file);
+        EXPECT_TRUE(bool(hf)) << file;
+        auto cut = cropHeightfield(*hf, {x, y, n, n, false}, file);
+        EXPECT_TRUE(bool(cut)) << file;
+        return std::make_shared<const Heightfield>(*cut);
+    };
+    std::vector<std::pair<std::string, std::shared_ptr<const Heightfield>>> maps;
+    for (const char* g : {"peaks6", "fbm", "sine", "ramp", "terraces", "walls", "spikes", "flat"})
+        maps.push_back({g, std::make_shared<const Heightfield>(*generateHeightfield(g, 40, 36, 3))});
+    maps.push_back({"bowl", fromFunction(41, 37, [&](int i, int j, int w, int h) {
+                        return radius2(i, j, w, h) / float(w * w);
+                    })});
+    maps.push_back({"gentle", fromFunction(44, 40, [&](int i, int j, int w, int h) {
+                        return 0.5f + 1e-4f * std::sqrt(radius2(i, j, w, h)) +
+                               1e-7f * radius2(i, j, w, h);
+                    })});
+    maps.push_back({"plane", fromFunction(36, 36, [](int i, int j, int, int) {
+                        return float(i + 2 * j) / 108.0f;
+                    })});
+    maps.push_back({"coast", fromFunction(48, 30, [](int i, int j, int w, int) {
+                        const float land = float(i - w / 2) + 3.0f * std::sin(0.7f * float(j));
+                        return land <= 0.0f ? 0.0f : std::min(1.0f, 0.03f * land);
+                    })});
+    maps.push_back({"spike", fromFunction(30, 22, [](int i, int j, int w, int h) {
+                        return i == w / 3 && j == h / 2 ? 1.0f : 0.0f;
+                    })});
+    maps.push_back({"earth coast", crop("earth-topology-2048x1024.png", 700, 330, 48)});
+    maps.push_back({"earth sea", crop("earth-topology-2048x1024.png", 100, 500, 40)});
+    maps.push_back({"colorado", crop("colorado-elevation-400.png", 150, 150, 48)});
+    maps.push_back({"finland", crop("finland-topography-400-16bit.png", 100, 120, 48)});
+    size_t texels = 0;
+    for (const auto& [name, hf] : maps)
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float ratio : {0.2f, 0.5f, 1.0f, 0.0f})
+                for (float maxDistance : {0.0f, 7.0f}) {
+                    const Surface s(hf, 0.1f * float(hf->width), edge);
+                    QdmBuildParams params{ratio, maxDistance, true};
+                    params.paper = true;
+                    params.skipRings = false;
+                    const auto walked = buildQdmPaper(s, params);
+                    params.skipRings = true;
+                    for (int64_t budget : {int64_t(-1), int64_t(0)}) {  // default; probes only
+                        params.ringWalkBudget = budget;
+                        const auto skipped = buildQdmPaper(s, params);
+                        ASSERT_EQ(walked.size(), skipped.size());
+                        size_t differ = 0;
+                        for (size_t k = 0; k < walked.size(); ++k)
+                            differ += std::memcmp(&walked[k], &skipped[k], sizeof(QdmTexel)) != 0;
+                        texels += walked.size();
+                        EXPECT_EQ(differ, 0u) << name << " " << toString(edge) << " ratio " << ratio
+                                              << " max-distance " << maxDistance << " budget "
+                                              << budget;
+                    }
+                }
+    EXPECT_GT(texels, 100000u);
 }
 
 // One spike of height z at the centre of a flat 5×5 map (clamp). From sample (0, 2), two rings
