@@ -720,10 +720,10 @@ DistanceMap buildDistanceMapReference(const Surface& s, const BuildOptions& opti
 namespace {
 
 // The modified N-buffer of §6.3.2 along one axis: level l holds, for every sample, the maximum
-// of the 2^l samples starting there across the class axis (wrapping in repeat mode). Any window
-// is then the max of two lookups (more only beyond the top level, kept small for memory).
-// Levels 0 and 1 are not stored (8 bytes per texel less): the scans' windows span 2x + 5 rows,
-// at least x + 3 ≥ 3 once clipped to the map, and the few under 4 rows are read from the samples.
+// of the 2^l samples starting there across the class axis (wrapping in repeat mode). Only the
+// even levels from 2 up are stored (16 instead of 40 bytes per texel), so a window is the max of
+// two to four lookups (more only beyond the top level): the scans' windows span 2x + 5 rows, at
+// least x + 3 ≥ 3 once clipped to the map, and the few under 4 rows are read from the samples.
 class WindowMax {
 public:
     static constexpr int kTopLevel = 9;
@@ -740,22 +740,23 @@ public:
         for (int line = 0; line < m_lines; ++line)
             for (int p = 0; p < m_length; ++p)
                 m_lineMax[size_t(line)] = std::max(m_lineMax[size_t(line)], sample(line, p));
-        for (int l = kFirstLevel; l < m_levels; ++l) {
+        for (int l = kFirstLevel; l < m_levels; l += 2) {
             m_data[size_t(l)].resize(size_t(m_lines) * size_t(m_length));
-            const int half = 1 << (l - 1);
+            const int quarter = 1 << (l - 2);  // four entries of level l − 2 (or samples) make one
             parallelRanges(m_lines, 16, [&](int64_t begin, int64_t end) {
                 for (int64_t line = begin; line < end; ++line) {
                     float* cur = &m_data[size_t(l)][size_t(line) * size_t(m_length)];
-                    if (l == kFirstLevel) {  // the samples p .. p + 3, as levels 1 and 2 would take them
-                        for (int p = 0; p < m_length; ++p) {
-                            float z = -kInfinity;
-                            for (int d = 0; d < 4; ++d) z = std::max(z, sample(int(line), next(p, d)));
-                            cur[p] = z;
+                    const float* prev = l == kFirstLevel
+                                            ? nullptr
+                                            : &m_data[size_t(l - 2)][size_t(line) * size_t(m_length)];
+                    for (int p = 0; p < m_length; ++p) {
+                        float z = -kInfinity;
+                        for (int d = 0; d < 4; ++d) {
+                            const int q = next(p, d * quarter);
+                            z = std::max(z, prev ? prev[q] : sample(int(line), q));
                         }
-                        continue;
+                        cur[p] = z;
                     }
-                    const float* prev = &m_data[size_t(l - 1)][size_t(line) * size_t(m_length)];
-                    for (int p = 0; p < m_length; ++p) cur[p] = std::max(prev[p], prev[next(p, half)]);
                 }
             });
         }
@@ -779,11 +780,12 @@ public:
                 best = std::max(best, sample(line, m_repeat ? p % m_length : p));
             return best;
         }
-        const int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
+        int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
+        level -= level % 2;  // the stored level below
         const int span = 1 << level;
         const float* row = &m_data[size_t(level)][size_t(line) * size_t(m_length)];
         float best = -kInfinity;
-        for (int p = start;; p += span) {  // two lookups whenever count < 2^(top+1)
+        for (int p = start;; p += span) {  // at most four whenever count < 2^(top+1)
             const int last = start + count - span;
             const int q = std::min(p, last);
             best = std::max(best, row[m_repeat ? q % m_length : q]);
