@@ -6,8 +6,9 @@
 // form. The tracers live in safety_march.h.
 // Cost: time O(r) to O(r²) cell tests per texel and class (pruned by plane-bound pyramids) and a
 // slope scan of up to 256 columns (N-buffer lookups, runs skipped by a sample pyramid). Peak
-// memory of a bake, measured: safety-sd 57 bytes per texel, safety-cc 83 (its arrays 48, the
-// radii 8, one N-buffer orientation 16, the surface 8); 10800×5400 ≈ 3.3 / 4.8 GB.
+// memory of a bake, measured: safety-sd 58 bytes per texel, safety-cc 82–85 (its arrays 48, the
+// radii 8, one N-buffer orientation 16, the surface 8); the 10800×5400 earth map 3.4 (extrapolated)
+// / 4.76 GB.
 //
 // Coordinates: sample coordinates X = x − 0.5, Y = y − 0.5 (sample (i, j) at integer (i, j)).
 // Class c has a local frame (a, b): a grows along the class's direction, b across it; for x±
