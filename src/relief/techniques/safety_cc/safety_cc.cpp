@@ -39,7 +39,9 @@ Result<TechniqueMaps> buildSafetyCcMaps(const TechniqueInput& input) {
     if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
     if (Status ok = safety::checkSampledPrecompute(input.params, nullptr); !ok) return ok.error();
     const bool sampled = safety::sampledPrecompute(input.params);
-    TechniqueMaps maps = safety::coneMapToArrays(kName, buildCone(*input.surface, build, sampled), build);
+    // Straight into the arrays (the map and its arrays are never held together).
+    TechniqueMaps maps = safety::buildConeArrays(
+        kName, *input.surface, safety::buildDistanceMapFor(*input.surface, build, sampled), build);
     safety::recordPrecompute(maps, sampled);
     return maps;
 }

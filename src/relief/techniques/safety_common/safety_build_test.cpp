@@ -8,7 +8,9 @@
 #include <relief/io/heightfield_io.h>
 #include <relief/techniques/safety_common/safety_maps.h>
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 
 namespace relief::safety {
 namespace {
@@ -126,6 +128,78 @@ TEST(SafetyBuild, PrunedMapsEqualReference) {
     }
     std::printf("[ safety   ] pruned = reference on %zu distance maps (%zu texel-classes)\n", maps,
                 texels);
+}
+
+// The bake's arrays, built without the map, are the arrays of the map.
+TEST(SafetyBuild, ConeArraysEqualMapArrays) {
+    for (const Case& c : cases()) {
+        ASSERT_TRUE(c.hf) << c.name;
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            const Surface s(c.hf, 0.1f * float(std::max(c.hf->width, c.hf->height)), edge);
+            for (const BuildOptions& o : optionSets(edge)) {
+                const DistanceMap radii = buildDistanceMap(s, o);
+                const TechniqueMaps want = coneMapToArrays("safety-cc", buildConeMap(s, radii, o), o);
+                const TechniqueMaps got = buildConeArrays("safety-cc", s, radii, o);
+                EXPECT_EQ(got.parameters, want.parameters);
+                ASSERT_EQ(got.arrays.size(), want.arrays.size()) << c.name;
+                for (size_t a = 0; a < want.arrays.size(); ++a) {
+                    const MapArray &g = got.arrays[a], &w = want.arrays[a];
+                    EXPECT_EQ(g.name, w.name);
+                    EXPECT_EQ(g.width * 100000 + g.height * 10 + g.channels,
+                              w.width * 100000 + w.height * 10 + w.channels);
+                    ASSERT_EQ(g.data.size(), w.data.size());
+                    EXPECT_EQ(std::memcmp(g.data.data(), w.data.data(), w.data.size() * sizeof(float)), 0)
+                        << c.name << " " << toString(edge) << " " << w.name;
+                }
+            }
+        }
+    }
+}
+
+// The N-buffer (which keeps no levels under 4 samples) against the samples read one by one: each
+// texel's cylinder top z_c is the highest sample of its windows at abscissas r and r + 1
+// (rows b0 ± (x + 2), clipped at the border or wrapped), plus the builder's rounding margin.
+TEST(SafetyBuild, ConeTopsAreWindowMaxima) {
+    size_t texels = 0;
+    for (const Case& c : cases()) {
+        ASSERT_TRUE(c.hf) << c.name;
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+            const Surface s(c.hf, 0.3f * float(std::max(c.hf->width, c.hf->height)), edge);
+            const BuildOptions o;
+            const CylinderConeMap map = buildConeMap(s, buildDistanceMap(s, o), o);
+            const bool repeat = edge == EdgeMode::Repeat;
+            for (int cls = 0; cls < kClassCount; ++cls) {
+                const Frame f{cls};
+                const bool xClass = cls < kYPlus;
+                const int lines = xClass ? s.width() : s.height();
+                const int length = xClass ? s.height() : s.width();
+                auto wrap = [](int v, int n) { return ((v % n) + n) % n; };
+                for (int j = 0; j < s.height(); ++j)
+                    for (int i = 0; i < s.width(); ++i) {
+                        const ConeTexel& t = map.at(cls, i, j);
+                        int a0, b0;
+                        f.texel(i, j, a0, b0);
+                        float top = -std::numeric_limits<float>::infinity();
+                        for (int x = t.r; x <= t.r + 1; ++x) {
+                            double X, Y;
+                            f.world(a0 + x, 0, X, Y);
+                            int line = xClass ? int(X) : int(Y);
+                            line = repeat ? wrap(line, lines) : std::clamp(line, 0, lines - 1);
+                            for (int b = b0 - x - 2; b <= b0 + x + 2; ++b) {
+                                if (!repeat && (b < 0 || b >= length)) continue;
+                                const int row = repeat ? wrap(b, length) : b;
+                                top = std::max(top, xClass ? s.sampleZ(line, row) : s.sampleZ(row, line));
+                            }
+                        }
+                        top += 1e-6f * (1.0f + s.maxZ());  // as the builder rounds it up
+                        EXPECT_EQ(t.zc, top) << c.name << " " << toString(edge) << " class " << cls
+                                             << " texel " << i << "," << j;
+                        ++texels;
+                    }
+            }
+        }
+    }
+    std::printf("[ safety   ] cylinder tops = window maxima on %zu texel-classes\n", texels);
 }
 
 }  // namespace

@@ -720,38 +720,42 @@ DistanceMap buildDistanceMapReference(const Surface& s, const BuildOptions& opti
 namespace {
 
 // The modified N-buffer of §6.3.2 along one axis: level l holds, for every sample, the maximum
-// of the 2^l samples starting there across the class axis (wrapping in repeat mode). Any window
-// is then the max of two lookups (more only beyond the top level, kept small for memory).
+// of the 2^l samples starting there across the class axis (wrapping in repeat mode). Only the
+// even levels from 2 up are stored (16 instead of 40 bytes per texel), so a window is the max of
+// two to four lookups (more only beyond the top level): the scans' windows span 2x + 5 rows, at
+// least x + 3 ≥ 3 once clipped to the map, and the few under 4 rows are read from the samples.
 class WindowMax {
 public:
     static constexpr int kTopLevel = 9;
+    static constexpr int kFirstLevel = 2;
 
     // alongY: windows run along Y inside one column X (the x classes); else along X.
-    WindowMax(const Surface& s, bool alongY) : m_alongY(alongY) {
+    WindowMax(const Surface& s, bool alongY) : m_surface(s), m_alongY(alongY) {
         m_repeat = s.edge() == EdgeMode::Repeat;
         m_lines = alongY ? s.width() : s.height();
         m_length = alongY ? s.height() : s.width();
         m_levels = std::min(kTopLevel, int(std::bit_width(unsigned(m_length))) - 1) + 1;
         m_data.resize(size_t(m_levels));
-        m_data[0].resize(size_t(m_lines) * size_t(m_length));
         m_lineMax.assign(size_t(m_lines), 0.0f);
         for (int line = 0; line < m_lines; ++line)
-            for (int p = 0; p < m_length; ++p) {
-                const float z = alongY ? s.sampleZ(line, p) : s.sampleZ(p, line);
-                m_data[0][size_t(line) * size_t(m_length) + size_t(p)] = z;
-                m_lineMax[size_t(line)] = std::max(m_lineMax[size_t(line)], z);
-            }
-        for (int l = 1; l < m_levels; ++l) {
-            m_data[size_t(l)].resize(m_data[0].size());
-            const int half = 1 << (l - 1);
+            for (int p = 0; p < m_length; ++p)
+                m_lineMax[size_t(line)] = std::max(m_lineMax[size_t(line)], sample(line, p));
+        for (int l = kFirstLevel; l < m_levels; l += 2) {
+            m_data[size_t(l)].resize(size_t(m_lines) * size_t(m_length));
+            const int quarter = 1 << (l - 2);  // four entries of level l − 2 (or samples) make one
             parallelRanges(m_lines, 16, [&](int64_t begin, int64_t end) {
                 for (int64_t line = begin; line < end; ++line) {
-                    const float* prev = &m_data[size_t(l - 1)][size_t(line) * size_t(m_length)];
                     float* cur = &m_data[size_t(l)][size_t(line) * size_t(m_length)];
+                    const float* prev = l == kFirstLevel
+                                            ? nullptr
+                                            : &m_data[size_t(l - 2)][size_t(line) * size_t(m_length)];
                     for (int p = 0; p < m_length; ++p) {
-                        int q = p + half;
-                        q = m_repeat ? q % m_length : std::min(q, m_length - 1);
-                        cur[p] = std::max(prev[p], prev[q]);
+                        float z = -kInfinity;
+                        for (int d = 0; d < 4; ++d) {
+                            const int q = next(p, d * quarter);
+                            z = std::max(z, prev ? prev[q] : sample(int(line), q));
+                        }
+                        cur[p] = z;
                     }
                 }
             });
@@ -770,11 +774,18 @@ public:
             count = end - start;
             if (count <= 0) return -kInfinity;
         }
-        const int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
+        if (count < (1 << kFirstLevel)) {
+            float best = -kInfinity;
+            for (int p = start; p < start + count; ++p, ++lookups)
+                best = std::max(best, sample(line, m_repeat ? p % m_length : p));
+            return best;
+        }
+        int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
+        level -= level % 2;  // the stored level below
         const int span = 1 << level;
         const float* row = &m_data[size_t(level)][size_t(line) * size_t(m_length)];
         float best = -kInfinity;
-        for (int p = start;; p += span) {  // two lookups whenever count < 2^(top+1)
+        for (int p = start;; p += span) {  // at most four whenever count < 2^(top+1)
             const int last = start + count - span;
             const int q = std::min(p, last);
             best = std::max(best, row[m_repeat ? q % m_length : q]);
@@ -789,6 +800,13 @@ private:
         v %= n;
         return v < 0 ? v + n : v;
     }
+    float sample(int line, int p) const {
+        return m_alongY ? m_surface.sampleZ(line, p) : m_surface.sampleZ(p, line);
+    }
+    // Sample p + d, wrapped or held at the last one.
+    int next(int p, int d) const { return m_repeat ? (p + d) % m_length : std::min(p + d, m_length - 1); }
+
+    const Surface& m_surface;
     bool m_alongY, m_repeat;
     int m_lines, m_length, m_levels;
     std::vector<std::vector<float>> m_data;
@@ -802,19 +820,18 @@ class SampleMax {
 public:
     explicit SampleMax(const Surface& s) {
         m_repeat = s.edge() == EdgeMode::Repeat;
-        Level base{s.width(), s.height(), std::vector<float>(size_t(s.width()) * size_t(s.height()))};
-        for (int y = 0; y < s.height(); ++y)
-            for (int x = 0; x < s.width(); ++x)
-                base.data[size_t(y) * size_t(s.width()) + size_t(x)] = s.sampleZ(x, y);
-        m_levels.push_back(std::move(base));
+        // Level 0 (the samples) keeps only its size: the scan bounds runs by level 1 and up.
+        m_levels.push_back({s.width(), s.height(), {}});
         while (m_levels.size() < size_t(kLevels) && (m_levels.back().w > 1 || m_levels.back().h > 1)) {
             const Level& fine = m_levels.back();
+            const bool base = m_levels.size() == 1;
             Level coarse{(fine.w + 1) / 2, (fine.h + 1) / 2, {}};
             coarse.data.assign(size_t(coarse.w) * size_t(coarse.h), -kInfinity);
             for (int y = 0; y < fine.h; ++y)
                 for (int x = 0; x < fine.w; ++x) {
                     float& to = coarse.data[size_t(y / 2) * size_t(coarse.w) + size_t(x / 2)];
-                    to = std::max(to, fine.data[size_t(y) * size_t(fine.w) + size_t(x)]);
+                    to = std::max(to, base ? s.sampleZ(x, y)
+                                           : fine.data[size_t(y) * size_t(fine.w) + size_t(x)]);
                 }
             m_levels.push_back(std::move(coarse));
         }
@@ -824,7 +841,7 @@ public:
 
     // An upper bound on the samples the window lookups of lines [l0, l1] (world index along
     // the class axis, clamped or wrapped as WindowMax does) and cross samples [c0, c1] read;
-    // false when level `level` needs more than kMaxReads reads.
+    // false when level `level` needs more than kMaxReads reads (or is level 0).
     bool bound(bool xClass, int level, int l0, int l1, int c0, int c1, float& out) const {
         const Level& base = m_levels[0];
         const int lines = xClass ? base.w : base.h, length = xClass ? base.h : base.w;
@@ -839,6 +856,7 @@ public:
                 reads += ((ranges[0][a][1] >> level) - (ranges[0][a][0] >> level) + 1) *
                          ((ranges[1][b][1] >> level) - (ranges[1][b][0] >> level) + 1);
         if (reads > kMaxReads) return false;
+        if (level < 1) return false;  // not stored
         const Level& l = m_levels[size_t(level)];
         float best = -kInfinity;
         for (int a = 0; a < parts[0]; ++a)
@@ -1038,15 +1056,34 @@ float coneSlopeDirect(const Surface& s, int cls, int i, int j, int r, float zc, 
 
 namespace {
 
+// Where buildCones puts the texels: the map, or the on-disk arrays (r, zc, slope per class)
+// that coneMapToArrays would make of it, so a bake never holds both.
+struct MapStore {
+    CylinderConeMap& map;
+    size_t plane;
+    ConeTexel get(int slot, size_t k) const { return map.texels[size_t(slot) * plane + k]; }
+    void set(int slot, size_t k, const ConeTexel& t) { map.texels[size_t(slot) * plane + k] = t; }
+};
+struct ArrayStore {
+    std::vector<MapArray>& arrays;
+    ConeTexel get(int slot, size_t k) const {
+        const float* a = &arrays[size_t(slot)].data[3 * k];
+        return {0.0f, a[2], int32_t(a[0]), a[1]};
+    }
+    void set(int slot, size_t k, const ConeTexel& t) {
+        float* a = &arrays[size_t(slot)].data[3 * k];
+        a[0] = float(t.r), a[1] = t.zc, a[2] = t.slope;
+    }
+};
+
 // pruned: skip slope-scan runs by SampleMax (the builder), else the reference scan; same maps.
 // The texels are written in place (the isotropic map takes the classes' maxima as they come),
-// so the build holds the map plus one N-buffer orientation and the pyramids.
-CylinderConeMap buildCones(const Surface& s, const DistanceMap& radii, const BuildOptions& options,
-                           bool pruned) {
+// so the build holds the output plus one N-buffer orientation and the pyramids.
+template <class Store>
+void buildCones(const Surface& s, const DistanceMap& radii, const BuildOptions& options,
+                bool pruned, int classes, Store& store) {
     const int w = s.width(), h = s.height();
     const size_t plane = size_t(w) * size_t(h);
-    const int classes = options.isotropic ? 1 : kClassCount;
-    CylinderConeMap map{w, h, classes, std::vector<ConeTexel>(size_t(classes) * plane)};
     const double tanPhi = tanPhiMax(options.phiMaxDeg);
     std::unique_ptr<const ExteriorVisibility> exterior;
     if (options.exterior && options.exteriorSlope)
@@ -1066,34 +1103,66 @@ CylinderConeMap buildCones(const Surface& s, const DistanceMap& radii, const Bui
                                                       tanPhi, lookups);
                         const size_t k = size_t(j) * size_t(w) + size_t(i);
                         if (classes == kClassCount) {
-                            map.texels[size_t(cls) * plane + k] = t;
+                            store.set(cls, k, t);
                         } else if (cls == 0) {
-                            map.texels[k] = t;  // same r (isotropic) in every class
+                            store.set(0, k, t);  // same r (isotropic) in every class
                         } else {
-                            ConeTexel& o = map.texels[k];
+                            ConeTexel o = store.get(0, k);
                             o.zc = std::max(o.zc, t.zc);
                             o.slope = std::max(o.slope, t.slope);
+                            store.set(0, k, o);
                         }
                     }
         });
     }
     const float maxZ = s.maxZ();
-    parallelRanges(int64_t(map.texels.size()), 4096, [&](int64_t begin, int64_t end) {
-        for (int64_t k = begin; k < end; ++k) finishTexel(map.texels[size_t(k)], maxZ);
+    parallelRanges(int64_t(size_t(classes) * plane), 4096, [&](int64_t begin, int64_t end) {
+        for (int64_t n = begin; n < end; ++n) {
+            const int slot = int(size_t(n) / plane);
+            const size_t k = size_t(n) % plane;
+            ConeTexel t = store.get(slot, k);
+            finishTexel(t, maxZ);
+            store.set(slot, k, t);
+        }
     });
+}
+
+CylinderConeMap buildConeMapWith(const Surface& s, const DistanceMap& radii,
+                                 const BuildOptions& options, bool pruned) {
+    const size_t plane = size_t(s.width()) * size_t(s.height());
+    const int classes = options.isotropic ? 1 : kClassCount;
+    CylinderConeMap map{s.width(), s.height(), classes,
+                        std::vector<ConeTexel>(size_t(classes) * plane)};
+    MapStore store{map, plane};
+    buildCones(s, radii, options, pruned, classes, store);
     return map;
 }
+
+std::map<std::string, std::string> parameterText(const BuildOptions& o);
+std::string coneArrayName(int cls, int classes);
 
 }  // namespace
 
 CylinderConeMap buildConeMap(const Surface& s, const DistanceMap& radii,
                              const BuildOptions& options) {
-    return buildCones(s, radii, options, true);
+    return buildConeMapWith(s, radii, options, true);
 }
 
 CylinderConeMap buildConeMapReference(const Surface& s, const DistanceMap& radii,
                                       const BuildOptions& options) {
-    return buildCones(s, radii, options, false);
+    return buildConeMapWith(s, radii, options, false);
+}
+
+TechniqueMaps buildConeArrays(const std::string& technique, const Surface& s,
+                              const DistanceMap& radii, const BuildOptions& options) {
+    const int classes = options.isotropic ? 1 : kClassCount;
+    TechniqueMaps out{technique, parameterText(options), {}};
+    for (int c = 0; c < classes; ++c)
+        out.arrays.push_back({coneArrayName(c, classes), s.width(), s.height(), 3,
+                              std::vector<float>(size_t(s.width()) * size_t(s.height()) * 3)});
+    ArrayStore store{out.arrays};
+    buildCones(s, radii, options, true, classes, store);
+    return out;
 }
 
 // ---- On disk ----
