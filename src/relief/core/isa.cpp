@@ -1,6 +1,9 @@
 #include <relief/core/isa.h>
 
 #include <atomic>
+#if RELIEF_ISA_DISPATCH
+#include <cpuid.h>
+#endif
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -19,6 +22,15 @@ Result<Isa> isaFromEnvironment() {
     if (!isa) return Error{isa.error().kind, "RELIEF_ISA: " + isa.error().message};
     return isa;
 }
+
+#if RELIEF_ISA_DISPATCH
+// F16C from CPUID leaf 1 (ECX bit 29): clang 14's __builtin_cpu_supports has no "f16c". The OS
+// side (YMM state saved) is what __builtin_cpu_supports("avx") checks, which AVX2 needs anyway.
+bool cpuHasF16c() {
+    unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+    return __get_cpuid(1, &eax, &ebx, &ecx, &edx) != 0 && (ecx & bit_F16C) != 0;
+}
+#endif
 
 }  // namespace
 
@@ -44,7 +56,7 @@ bool isaSupported(Isa isa) {
             return isaSupported(Isa::Sse4) && __builtin_cpu_supports("avx") &&
                    __builtin_cpu_supports("avx2") && __builtin_cpu_supports("bmi") &&
                    __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("fma") &&
-                   __builtin_cpu_supports("f16c");
+                   cpuHasF16c();
     }
     return false;
 #else
