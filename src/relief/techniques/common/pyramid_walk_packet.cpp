@@ -358,8 +358,12 @@ struct Walk {
                        VF inverse) {
         const DF df;
         const DI di;
-        const VI lo = ((p >> level) << level);
-        const VI hi = hn::Min(hn::Add(lo, (hn::Set(di, 1) << level)), cells);
+        // Lanes whose result is discarded (not advancing) may carry any level; a shift by it is
+        // undefined in C++ (the portable target shifts lane by lane), so it is clamped to the
+        // pyramid's range, which changes no lane that is used.
+        const VI shift = hn::Min(hn::Max(level, hn::Zero(di)), hn::Set(di, 30));
+        const VI lo = ((p >> shift) << shift);
+        const VI hi = hn::Min(hn::Add(lo, (hn::Set(di, 1) << shift)), cells);
         const VI edgeCell = hn::Add(hn::Add(base, lo), hn::And(hn::Sub(hi, lo), exitMask));
         const VF tEdge = hn::Mul(hn::Sub(hn::Add(hn::ConvertTo(df, edgeCell), edge), origin), inverse);
         return hn::IfThenElse(hn::RebindMask(df, hn::Eq(step, hn::Zero(di))),
