@@ -1,16 +1,17 @@
-// The packet walk (quadtree's and maxmip's) against the scalar walk, side by side in one process on the same primary
-// rays (docs/benchmarks-packets.md): per map and elevation, the two traced in turn (A B A B ...),
-// each pass through traceAll (256-ray batches in parallel), the ratio taken pair by pair, and
-// every hit compared bit for bit.
+// The rows' packet paths (quadtree, maxmip, exact: PacketTracer) against their scalar paths,
+// side by side in one process on the same primary rays (docs/benchmarks-packets.md): per row,
+// map and elevation, the two traced in turn (A B A B ...), each pass through traceAll (256-ray
+// batches in parallel), the ratio taken pair by pair, and every hit compared bit for bit.
 //
 //   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
-//                    [--isa avx3|avx2|sse4] SOURCE...
-//   --isa: limit the packet walk's dispatch to that target (default: the best this CPU has)
+//                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact] SOURCE...
+//   --isa: limit the packet paths' dispatch to that target (default: the best this CPU has)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
 #include <relief/render/surface_source.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
+#include <relief/techniques/registry.h>
 
 #include <hwy/targets.h>
 
@@ -26,41 +27,6 @@
 namespace {
 
 using namespace relief;
-
-// The walk of `quadtree` (Ascent::Parent) or `maxmip` (Ascent::Ancestor) with their defaults.
-struct Walk {
-    const Surface& surface;
-    const MaxPyramid& pyramid;
-    Ascent ascent;
-};
-
-class PacketTracer final : public Tracer {
-public:
-    explicit PacketTracer(Walk walk) : m_walk(walk) {}
-    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        walkPyramidPackets(m_walk.surface, m_walk.pyramid, rays, hits, m_walk.ascent);
-    }
-
-private:
-    Walk m_walk;
-};
-
-class ScalarTracer final : public Tracer {
-public:
-    explicit ScalarTracer(Walk walk) : m_walk(walk) {}
-    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        const MaxBound bound(m_walk.pyramid);
-        const PyramidLayout& layout = m_walk.pyramid.layout();
-        for (size_t k = 0; k < rays.size(); ++k)
-            hits[k] = m_walk.ascent == Ascent::Parent
-                          ? walkPyramid<Ascent::Parent>(m_walk.surface, layout, bound, rays[k], {})
-                          : walkPyramid<Ascent::Ancestor>(m_walk.surface, layout, bound, rays[k],
-                                                          {});
-    }
-
-private:
-    Walk m_walk;
-};
 
 double seconds(const Tracer& tracer, const std::vector<Ray>& rays, std::vector<Hit>& hits) {
     const auto start = std::chrono::steady_clock::now();
@@ -87,13 +53,21 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     int threads = 2, reps = 7, width = 640, height = 512;
     std::string edge = "clamp";
-    std::vector<std::string> sources;
+    std::vector<std::string> sources, rows = {"quadtree", "maxmip", "exact"};
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         if (a == "--threads" && k + 1 < argc) threads = std::atoi(argv[++k]);
         else if (a == "--reps" && k + 1 < argc) reps = std::max(1, std::atoi(argv[++k]));
         else if (a == "--size" && k + 1 < argc) std::sscanf(argv[++k], "%dx%d", &width, &height);
         else if (a == "--edge" && k + 1 < argc) edge = argv[++k];
+        else if (a == "--rows" && k + 1 < argc) {
+            rows.clear();
+            for (std::string list = argv[++k]; !list.empty();) {
+                const size_t comma = list.find(',');
+                rows.push_back(list.substr(0, comma));
+                list = comma == std::string::npos ? "" : list.substr(comma + 1);
+            }
+        }
         else if (a == "--isa" && k + 1 < argc) {
             const std::string isa = argv[++k];
             hwy::SetSupportedTargetsForTest(isa == "avx3"   ? HWY_AVX3
@@ -105,13 +79,14 @@ int main(int argc, char** argv) {
     }
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
-                             "[--edge clamp|repeat] [--isa avx3|avx2|sse4] SOURCE...\n", argv[0]);
+                             "[--edge clamp|repeat] [--isa avx3|avx2|sse4] "
+                             "[--rows quadtree,maxmip,exact] SOURCE...\n", argv[0]);
         return 2;
     }
     const ThreadLimit limit(threads);
     std::printf("packet target %s, %d threads, %dx%d rays, %d pairs, edge %s\n\n",
                 packetWalkTarget(), threads, width, height, reps, edge.c_str());
-    std::printf("| walk | map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
+    std::printf("| row | map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
                 "pairs) | hits | differences |\n|---|---|---|---|---|---|---|---|\n");
     for (const std::string& source : sources) {
         SurfaceOptions options;
@@ -127,11 +102,20 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "%s\n", surface.error().message.c_str());
             return 1;
         }
-        const MaxPyramid pyramid(**surface);
-        for (const Ascent ascent : {Ascent::Parent, Ascent::Ancestor}) {
-        const char* walkName = ascent == Ascent::Parent ? "quadtree" : "maxmip";
-        const ScalarTracer scalar({**surface, pyramid, ascent});
-        const PacketTracer packets({**surface, pyramid, ascent});
+        for (const std::string& row : rows) {
+        auto tracer = createTracer(row, *surface);
+        if (!tracer) {
+            std::fprintf(stderr, "%s\n", tracer.error().message.c_str());
+            return 1;
+        }
+        const auto* packetRow = dynamic_cast<const PacketTracer*>(tracer->get());
+        if (!packetRow) {
+            std::fprintf(stderr, "%s: no packet path here (RELIEF_PACKETS=0, or not a packet row)\n",
+                         row.c_str());
+            return 1;
+        }
+        const Tracer& packets = *packetRow;
+        const Tracer& scalar = packetRow->scalarPath();
         for (const float elevation : {15.3f, 40.2f, 65.1f}) {
             OrbitView view;
             view.elevationDeg = elevation;
@@ -153,7 +137,7 @@ int main(int argc, char** argv) {
             }
             const double n = double(rays.size()) * 1e-6;
             std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu |\n",
-                        walkName, source.c_str(), elevation, n / median(ts), n / median(tp),
+                        row.c_str(), source.c_str(), elevation, n / median(ts), n / median(tp),
                         median(ratios), *std::min_element(ratios.begin(), ratios.end()),
                         *std::max_element(ratios.begin(), ratios.end()), hits, differences);
             std::fflush(stdout);

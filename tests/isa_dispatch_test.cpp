@@ -2,6 +2,7 @@
 // (hit, t, position, steps, fetches) through the baseline loop and through each wider ISA this
 // CPU runs, on > 10^5 rays per row over fbm, a real terrain crop and an adversarial map, clamp and
 // repeat, for the row's defaults and every variant and path case.
+#include <support/packet_test_support.h>
 #include <support/ray_sets.h>
 
 #include <relief/core/generators.h>
@@ -63,14 +64,6 @@ std::vector<Field> fields() {
     return out;
 }
 
-bool sameBits(const Hit& a, const Hit& b) {
-    return a.hit == b.hit && std::bit_cast<uint32_t>(a.t) == std::bit_cast<uint32_t>(b.t) &&
-           std::bit_cast<uint32_t>(a.position.x) == std::bit_cast<uint32_t>(b.position.x) &&
-           std::bit_cast<uint32_t>(a.position.y) == std::bit_cast<uint32_t>(b.position.y) &&
-           std::bit_cast<uint32_t>(a.position.z) == std::bit_cast<uint32_t>(b.position.z) &&
-           a.steps == b.steps && a.fetches == b.fetches;
-}
-
 // The row's defaults, its variants and its path cases, each once.
 std::vector<std::pair<std::string, bool>> paramSets(const TechniqueInfo& info) {
     std::vector<std::pair<std::string, bool>> sets{{"", false}};
@@ -121,7 +114,7 @@ TEST_P(IsaDispatchTest, EveryIsaTracesBitIdentically) {
                     }
                     size_t here = 0;
                     for (size_t k = 0; k < batch.size(); ++k)
-                        if (!sameBits(base[k], other[k]) && here++ < 3)
+                        if (!packet_test::identical(base[k], other[k]) && here++ < 3)
                             ADD_FAILURE() << info.name << " [" << params << "] " << field.label << " "
                                           << toString(edge) << " ray " << k << ": baseline (" << base[k].hit
                                           << ", t " << base[k].t << ", steps " << base[k].steps << ") vs "

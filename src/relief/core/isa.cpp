@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
 
 namespace relief {
 namespace {
@@ -113,6 +114,14 @@ Status setTracerIsa(Isa isa) {
         return makeError(ErrorKind::Unsupported, "this CPU lacks ISA '{}'", toString(isa));
     g_active.store(uint8_t(isa), std::memory_order_relaxed);
     return {};
+}
+
+bool packetsEnabled() {
+    static const bool enabled = [] {
+        const char* value = std::getenv("RELIEF_PACKETS");
+        return value == nullptr || std::string_view(value) != "0";
+    }();
+    return enabled;
 }
 
 }  // namespace relief

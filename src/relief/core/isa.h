@@ -36,6 +36,11 @@ Status checkIsaEnvironment();
 // refused. Not meant to race a trace in progress (the next batch may use either).
 Status setTracerIsa(Isa isa);
 
+// Whether the rows that have a SIMD packet path (Highway: quadtree, maxmip, exact) take it: false
+// when the environment sets RELIEF_PACKETS=0 (an A/B against their scalar paths); read once.
+// ISA baseline takes the scalar paths too (the portable code as a whole).
+bool packetsEnabled();
+
 // Scoped switch for tests and benchmarks; restores the previous ISA.
 class IsaOverride {
 public:

@@ -270,6 +270,30 @@ std::unique_ptr<Tracer> makeBatchTracer(Impl impl) {
     return std::make_unique<BatchTracer<Impl>>(std::move(impl));
 }
 
+// A row whose default traces each batch in SIMD packets (Highway; quadtree, maxmip, exact): the
+// packet path, and its scalar BatchTracer, which gives the same hits bit for bit. Baseline ISA
+// (--isa / RELIEF_ISA=baseline: the portable code as a whole) takes the scalar path; so does
+// RELIEF_PACKETS=0, when the row is created (packetsEnabled, core/isa.h).
+class PacketTracer : public Tracer {
+public:
+    // The same row, ray by ray (BatchTracer): the A/B peer of the packet path.
+    virtual const Tracer& scalarPath() const = 0;
+};
+
+template <class Impl, void (*kTracePackets)(const Impl&, std::span<const Ray>, std::span<Hit>)>
+class PacketBatchTracer final : public PacketTracer {
+public:
+    explicit PacketBatchTracer(Impl impl) : m_scalar(std::move(impl)) {}
+    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
+        if (activeIsa() == Isa::Baseline) return m_scalar.traceBatch(rays, hits);
+        kTracePackets(m_scalar.impl(), rays, hits);
+    }
+    const Tracer& scalarPath() const override { return m_scalar; }
+
+private:
+    BatchTracer<Impl> m_scalar;
+};
+
 // What maps baked for this surface record, and must match when they are used.
 MapSource mapSourceOf(const Surface& surface);
 

@@ -15,8 +15,6 @@
 #include <relief/techniques/common/pyramid_walk_packet.h>
 
 #include <cstdint>
-#include <cstdlib>
-#include <cstring>
 
 HWY_BEFORE_NAMESPACE();
 namespace relief {
@@ -417,14 +415,6 @@ void walkPyramidPackets(const Surface& surface, const MaxPyramid& pyramid,
 }
 
 const char* packetWalkTarget() { return HWY_DYNAMIC_DISPATCH(TargetName)(); }
-
-bool packetWalkEnabled() {
-    static const bool enabled = [] {
-        const char* value = std::getenv("RELIEF_PACKETS");
-        return value == nullptr || std::strcmp(value, "0") != 0;
-    }();
-    return enabled;
-}
 
 }  // namespace relief
 #endif  // HWY_ONCE

@@ -34,24 +34,11 @@ void walkPyramidPackets(const Surface& surface, const MaxPyramid& pyramid,
 // The Highway target the dispatch picks on this machine ("AVX2", "SSE4", "EMU128", ...).
 const char* packetWalkTarget();
 
-// False when the environment sets RELIEF_PACKETS=0 (A/B against the scalar walk); read once.
-bool packetWalkEnabled();
-
-// A pyramid row's default walk over a batch: SIMD packets, or the scalar walk (BatchTracer, per
-// ISA) when the tracers' ISA is baseline (--isa / RELIEF_ISA=baseline: the portable code as a
-// whole, an A/B against it). The same hits either way.
-template <class Impl, Ascent kAscent>
-class PacketBatchTracer final : public Tracer {
-public:
-    explicit PacketBatchTracer(Impl impl) : m_scalar(std::move(impl)) {}
-    void traceBatch(std::span<const Ray> rays, std::span<Hit> hits) const override {
-        if (activeIsa() == Isa::Baseline) return m_scalar.traceBatch(rays, hits);
-        walkPyramidPackets(m_scalar.impl().surface(), m_scalar.impl().pyramid(), rays, hits,
-                           kAscent);
-    }
-
-private:
-    BatchTracer<Impl> m_scalar;
-};
+// A pyramid row's default walk over a batch (PacketBatchTracer's packet path): Impl has
+// surface() and pyramid().
+template <Ascent kAscent, class Impl>
+void walkRowPackets(const Impl& impl, std::span<const Ray> rays, std::span<Hit> hits) {
+    walkPyramidPackets(impl.surface(), impl.pyramid(), rays, hits, kAscent);
+}
 
 }  // namespace relief

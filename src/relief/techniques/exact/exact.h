@@ -7,7 +7,9 @@
 // Steps = cells visited; fetches = corner samples read (4 per cell).
 // Departure: the ray is clipped to the box first (entry through any face); a ray whose entry
 // point lies below S hits the solid at the entry (DESIGN §1), which the first cell test reports.
-// The walk itself is the surface's (surface/cell_walk.h), shared with the tracers' exact parts.
+// The walk itself is the surface's (surface/cell_walk.h), shared with the tracers' exact parts;
+// batches go through its SIMD packet twin (surface/cell_walk_packet.h, the same hits bit for bit)
+// unless the ISA is baseline or RELIEF_PACKETS=0.
 #include <relief/surface/cell_walk.h>
 #include <relief/techniques/technique.h>
 
@@ -18,6 +20,7 @@ public:
     explicit ExactTracer(std::shared_ptr<const Surface> surface) : m_surface(std::move(surface)) {}
 
     Hit trace(const Ray& ray) const;
+    const Surface& surface() const { return *m_surface; }
 
 private:
     std::shared_ptr<const Surface> m_surface;

@@ -11,10 +11,11 @@ Result<std::unique_ptr<Tracer>> createMaxmip(const TechniqueInput& input) {
     MaxmipTracer tracer(input.surface, std::move(*pyramid), limits);
     const bool packets = limits.maxSteps == 0 && !limits.boxSurface &&
                          pyramidBits(input.params) == 32 && packetWalkSupports(tracer.pyramid()) &&
-                         packetWalkEnabled();
+                         packetsEnabled();
     if (packets)
         return std::unique_ptr<Tracer>(
-            new PacketBatchTracer<MaxmipTracer, Ascent::Ancestor>(std::move(tracer)));
+            new PacketBatchTracer<MaxmipTracer, walkRowPackets<Ascent::Ancestor, MaxmipTracer>>(
+                std::move(tracer)));
     return makeBatchTracer(std::move(tracer));
 }
 

@@ -4,14 +4,11 @@
 #include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/maxmip/maxmip.h>
 #include <relief/techniques/registry.h>
+#include <support/packet_test_support.h>
 #include <support/walk_test_support.h>
-
-#include <bit>
 
 namespace relief {
 namespace {
-
-bool sameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
 
 TEST(MaxmipPackets, RegistryMaxmipUsesPacketsForDefaultsOnly) {
     for (const EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
@@ -27,15 +24,13 @@ TEST(MaxmipPackets, RegistryMaxmipUsesPacketsForDefaultsOnly) {
             ASSERT_TRUE(tracer.ok()) << what;
             const bool isScalar =
                 dynamic_cast<const BatchTracer<MaxmipTracer>*>(tracer->get()) != nullptr;
-            EXPECT_EQ(isScalar, !overrides.empty() || !packetWalkEnabled()) << what;
+            EXPECT_EQ(isScalar, !overrides.empty() || !packetsEnabled()) << what;
             if (!overrides.empty()) continue;
             std::vector<Hit> hits(rays.size());
             traceAll(**tracer, rays, hits);
             for (size_t k = 0; k < rays.size(); ++k) {
                 const Hit want = scalar.trace(rays[k]);
-                EXPECT_TRUE(hits[k].hit == want.hit && sameBits(hits[k].t, want.t) &&
-                            hits[k].steps == want.steps && hits[k].fetches == want.fetches)
-                    << walk_test::describe(rays[k]);
+                EXPECT_TRUE(packet_test::identical(hits[k], want)) << walk_test::describe(rays[k]);
             }
         }
     }

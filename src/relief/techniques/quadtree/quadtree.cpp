@@ -12,10 +12,11 @@ Result<std::unique_ptr<Tracer>> createQuadtree(const TechniqueInput& input) {
     QuadtreeTracer tracer(input.surface, std::move(*pyramid), ascent, limits);
     const bool packets = ascent == Ascent::Parent && limits.maxSteps == 0 &&
                          !limits.boxSurface && pyramidBits(input.params) == 32 &&
-                         packetWalkSupports(tracer.pyramid()) && packetWalkEnabled();
+                         packetWalkSupports(tracer.pyramid()) && packetsEnabled();
     if (packets)
         return std::unique_ptr<Tracer>(
-            new PacketBatchTracer<QuadtreeTracer, Ascent::Parent>(std::move(tracer)));
+            new PacketBatchTracer<QuadtreeTracer, walkRowPackets<Ascent::Parent, QuadtreeTracer>>(
+                std::move(tracer)));
     return makeBatchTracer(std::move(tracer));
 }
 

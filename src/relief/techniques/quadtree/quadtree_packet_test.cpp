@@ -2,27 +2,21 @@
 // identical, bit for bit, on adversarial maps and rays (walk_test_support.h), camera rays over
 // fbm and a real DEM, clamp and repeat.
 #include <gtest/gtest.h>
-#include <hwy/targets.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/registry.h>
+#include <support/packet_test_support.h>
 #include <support/walk_test_support.h>
 
-#include <bit>
 #include <cstdio>
 
 namespace relief {
 namespace {
 
-bool sameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
-
-bool identical(const Hit& a, const Hit& b) {
-    return a.hit == b.hit && sameBits(a.t, b.t) && sameBits(a.position.x, b.position.x) &&
-           sameBits(a.position.y, b.position.y) && sameBits(a.position.z, b.position.z) &&
-           a.steps == b.steps && a.fetches == b.fetches;
-}
+using packet_test::forEachTarget;
+using packet_test::identical;
 
 struct Counts {
     size_t rays = 0, hits = 0, differences = 0;
@@ -64,21 +58,6 @@ void compare(const std::shared_ptr<const Surface>& surface, const std::vector<Ra
                               << packets[k].steps;
         }
     }
-}
-
-// `run` once per compiled target this machine has (AVX-512, AVX2, SSE4, the fallback), with the
-// dispatch forced to it.
-template <class Run>
-void forEachTarget(Run run) {
-    const int64_t supported = hwy::SupportedTargets();
-    for (const int64_t target :
-         {int64_t(HWY_AVX3), int64_t(HWY_AVX2), int64_t(HWY_SSE4), int64_t(HWY_EMU128)}) {
-        if ((supported & target) == 0) continue;
-        hwy::SetSupportedTargetsForTest(target);
-        SCOPED_TRACE(packetWalkTarget());
-        run();
-    }
-    hwy::SetSupportedTargetsForTest(0);
 }
 
 std::vector<Ray> cameraRays(const Surface& surface, float elevation, float azimuth, int width,
@@ -156,7 +135,7 @@ TEST(PyramidWalkPacket, RegistryQuadtreeUsesPacketsForDefaultsOnly) {
         ASSERT_TRUE(tracer.ok()) << what;
         const bool isScalar =
             dynamic_cast<const BatchTracer<QuadtreeTracer>*>(tracer->get()) != nullptr;
-        EXPECT_EQ(isScalar, !overrides.empty() || !packetWalkEnabled()) << what;
+        EXPECT_EQ(isScalar, !overrides.empty() || !packetsEnabled()) << what;
         if (!overrides.empty()) continue;
         std::vector<Hit> hits(rays.size());
         traceAll(**tracer, rays, hits);

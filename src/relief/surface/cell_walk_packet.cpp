@@ -1,0 +1,294 @@
+// The packet cell walk (cell_walk_packet.h): compiled once per Highway target (foreach_target.h
+// re-includes this file), with -ffp-contract=off (CMakeLists.txt) so that no target fuses a
+// multiply and an add the scalar walk keeps apart.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "relief/surface/cell_walk_packet.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+#include <relief/surface/cell_test-inl.h>
+#include <relief/surface/cell_walk.h>
+#include <relief/surface/cell_walk_packet.h>
+
+#include <cstdint>
+#include <limits>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+namespace cell_walk {
+
+using DF = hn::CappedTag<float, 16>;
+using DI = hn::RebindToSigned<DF>;
+using VF = hn::Vec<DF>;
+using VI = hn::Vec<DI>;
+using MF = hn::Mask<DF>;
+using MI = hn::Mask<DI>;
+constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
+
+// The lanes' state, structure of arrays, read into vectors when lanes change rays.
+struct Packet {
+    alignas(64) float ta[kLanes], tb[kLanes];
+    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    alignas(64) float invX[kLanes], invY[kLanes], exitX[kLanes], exitY[kLanes];
+    // ci, cj: the cell; wi, wj: its column and row in the padded heights (wrapped in repeat mode)
+    alignas(64) int32_t ci[kLanes], cj[kLanes], wi[kLanes], wj[kLanes];
+    alignas(64) int32_t stepX[kLanes], stepY[kLanes], steps[kLanes], active[kLanes];
+    alignas(64) int32_t candidate[kLanes], done[kLanes];
+    alignas(64) float tc[kLanes];
+    size_t index[kLanes];
+    bool finished[kLanes];  // done by the scalar part (hit written)
+};
+
+struct Walk {
+    const Surface& s;
+    const float* heights;  // paddedHeights()
+    std::span<const Ray> rays;
+    std::span<Hit> hits;
+    size_t next = 0;
+
+    // Puts the batch's next ray that enters the box into `lane` (as cellsHit starts it), or parks
+    // the lane.
+    void fill(Packet& p, size_t lane) {
+        while (next < rays.size()) {
+            const size_t i = next++;
+            const Ray& ray = rays[i];
+            const RayInterval span = s.clip(ray);
+            if (span.empty()) {
+                hits[i] = Hit{};
+                continue;
+            }
+            const vec3& o = ray.origin;
+            const vec3& d = ray.direction;
+            const vec3 start = ray.at(span.tEnter);
+            const int ci = s.cellOfX(start.x), cj = s.cellOfY(start.y);
+            const bool clamp = s.edge() == EdgeMode::Clamp;
+            p.ta[lane] = span.tEnter;
+            p.tb[lane] = span.tExit;
+            p.ox[lane] = o.x;
+            p.oy[lane] = o.y;
+            p.oz[lane] = o.z;
+            p.dx[lane] = d.x;
+            p.dy[lane] = d.y;
+            p.dz[lane] = d.z;
+            p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
+            p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
+            p.invX[lane] = 1.0f / d.x;
+            p.invY[lane] = 1.0f / d.y;
+            p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
+            p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+            p.ci[lane] = ci;
+            p.cj[lane] = cj;
+            p.wi[lane] = clamp ? ci : texelIndex(ci, s.width(), EdgeMode::Repeat);
+            p.wj[lane] = clamp ? cj : texelIndex(cj, s.height(), EdgeMode::Repeat);
+            p.steps[lane] = 0;
+            p.active[lane] = -1;
+            p.index[lane] = i;
+            return;
+        }
+        park(p, lane);
+    }
+
+    // An idle lane: on cell (-1, -1), whose corners are in the array, and not moving.
+    static void park(Packet& p, size_t lane) {
+        p.active[lane] = 0;
+        p.ci[lane] = p.cj[lane] = p.wi[lane] = p.wj[lane] = -1;
+        p.stepX[lane] = p.stepY[lane] = 0;
+        p.tb[lane] = p.ta[lane] = 0.0f;
+    }
+
+    // cellsHit's loop in every active lane until the batch is done.
+    void run(Packet& p) {
+        const DF df;
+        const DI di;
+        const size_t n = hn::Lanes(df);
+        const bool clamp = s.edge() == EdgeMode::Clamp;
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
+        const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
+        const int32_t width = s.width(), height = s.height();
+        const VI stride = hn::Set(di, width + 2);
+        const VI lastX = hn::Set(di, width - 1), lastY = hn::Set(di, height - 1);
+        const VI columns = hn::Set(di, width), rows = hn::Set(di, height);
+        const VI minusOne = hn::Set(di, -1);
+
+        MI act = hn::MaskFromVec(zeroI);
+        VF ta = zero, tb = zero, ox = zero, oy = zero, oz = zero, dx = zero, dy = zero, dz = zero,
+           invX = zero, invY = zero, exitX = zero, exitY = zero;
+        VI ci = zeroI, cj = zeroI, wi = zeroI, wj = zeroI, stepX = zeroI, stepY = zeroI,
+           steps = zeroI;
+        const auto reload = [&] {
+            act = hn::MaskFromVec(hn::Load(di, p.active));
+            ta = hn::Load(df, p.ta);
+            tb = hn::Load(df, p.tb);
+            ox = hn::Load(df, p.ox);
+            oy = hn::Load(df, p.oy);
+            oz = hn::Load(df, p.oz);
+            dx = hn::Load(df, p.dx);
+            dy = hn::Load(df, p.dy);
+            dz = hn::Load(df, p.dz);
+            invX = hn::Load(df, p.invX);
+            invY = hn::Load(df, p.invY);
+            exitX = hn::Load(df, p.exitX);
+            exitY = hn::Load(df, p.exitY);
+            ci = hn::Load(di, p.ci);
+            cj = hn::Load(di, p.cj);
+            wi = hn::Load(di, p.wi);
+            wj = hn::Load(di, p.wj);
+            stepX = hn::Load(di, p.stepX);
+            stepY = hn::Load(di, p.stepY);
+            steps = hn::Load(di, p.steps);
+        };
+        // What changes during the walk (the rest only in `fill`).
+        const auto spill = [&] {
+            hn::Store(ta, df, p.ta);
+            hn::Store(ci, di, p.ci);
+            hn::Store(cj, di, p.cj);
+            hn::Store(wi, di, p.wi);
+            hn::Store(wj, di, p.wj);
+            hn::Store(steps, di, p.steps);
+        };
+        reload();
+        if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
+        for (;;) {
+            // The cell's exits, from its index each time (cellsHit).
+            const VF fci = hn::ConvertTo(df, ci), fcj = hn::ConvertTo(df, cj);
+            const VF tx = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepX, zeroI)), inf,
+                                         hn::Mul(hn::Sub(hn::Add(fci, exitX), ox), invX));
+            const VF ty = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepY, zeroI)), inf,
+                                         hn::Mul(hn::Sub(hn::Add(fcj, exitY), oy), invY));
+            // std::max(ta, std::min({tx, ty, tb}))
+            VF m = tx;
+            m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
+            m = hn::IfThenElse(hn::Lt(tb, m), tb, m);
+            const VF tc = hn::IfThenElse(hn::Lt(ta, m), m, ta);
+            steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
+
+            // The segment [ta, tc] against S in the cell (cell_test-inl.h).
+            const VI offset = hn::Add(hn::Mul(hn::Add(wj, oneI), stride), hn::Add(wi, oneI));
+            const MF misses = cell_test::SegmentMissesCell(df, heights, offset, stride, fci, fcj,
+                                                           {ox, oy, oz, dx, dy, dz}, ta, tc);
+            // A miss gives t = ∞, still a hit when tc = ∞: the scalar test decides there too.
+            const MI candidate = hn::AndNot(
+                hn::RebindMask(di, hn::And(misses, hn::Lt(tc, inf))), act);
+
+            const MI pastEnd = hn::And(act, hn::RebindMask(di, hn::Ge(tc, tb)));
+            // The next cell (tx <= ty: across x), and in clamp mode whether it leaves the cells.
+            const MI alongX = hn::RebindMask(di, hn::Le(tx, ty));
+            const VI ciNext = hn::Add(ci, hn::IfThenElseZero(alongX, stepX));
+            const VI cjNext = hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY));
+            VI wiNext = hn::Add(wi, hn::IfThenElseZero(alongX, stepX));
+            VI wjNext = hn::Add(wj, hn::IfThenElseZero(hn::Not(alongX), stepY));
+            MI leaves = hn::AndNot(act, act);  // none (repeat)
+            if (clamp) {
+                leaves = hn::Or(hn::Or(hn::Lt(ciNext, minusOne), hn::Gt(ciNext, lastX)),
+                                hn::Or(hn::Lt(cjNext, minusOne), hn::Gt(cjNext, lastY)));
+            } else {
+                // Wrapped: columns and rows stay in [0, W) and [0, H).
+                wiNext = hn::IfThenElse(hn::Eq(wiNext, columns), zeroI, wiNext);
+                wiNext = hn::IfThenElse(hn::Lt(wiNext, zeroI), lastX, wiNext);
+                wjNext = hn::IfThenElse(hn::Eq(wjNext, rows), zeroI, wjNext);
+                wjNext = hn::IfThenElse(hn::Lt(wjNext, zeroI), lastY, wjNext);
+            }
+            const MI exits = hn::Or(pastEnd, hn::And(act, leaves));
+
+            if (hn::AllFalse(di, hn::Or(candidate, exits))) {
+                ta = hn::IfThenElse(hn::RebindMask(df, act), tc, ta);
+                ci = hn::IfThenElse(act, ciNext, ci);
+                cj = hn::IfThenElse(act, cjNext, cj);
+                wi = hn::IfThenElse(act, wiNext, wi);
+                wj = hn::IfThenElse(act, wjNext, wj);
+                continue;
+            }
+
+            // Lanes that may end here, one by one: the hit (scalar firstHitInCell), the exit.
+            spill();
+            hn::Store(tc, df, p.tc);
+            hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
+            hn::Store(hn::VecFromMask(di, exits), di, p.done);
+            for (size_t k = 0; k < n; ++k) {
+                p.finished[k] = false;
+                if (!p.candidate[k] && !p.done[k]) continue;
+                const size_t i = p.index[k];
+                const Ray& ray = rays[i];
+                Hit hit;
+                hit.steps = p.steps[k];
+                hit.fetches = 4 * p.steps[k];
+                if (p.candidate[k]) {
+                    const float tCell = p.tc[k];
+                    const float t = firstHitInCell(s.cellPlanes(p.ci[k], p.cj[k]), ray, p.ci[k],
+                                                   p.cj[k], p.ta[k], tCell);
+                    if (t <= tCell) {
+                        setHit(ray, t, hit);
+                        hits[i] = hit;
+                        p.finished[k] = true;
+                        continue;
+                    }
+                }
+                if (!p.done[k]) continue;
+                if (p.tc[k] >= p.tb[k]) {
+                    // cellsHit's floor rule at the box exit (toExit)
+                    const float tb = p.tb[k];
+                    const float zEnd = ray.origin.z + tb * ray.direction.z;
+                    const float rounding = 4.0f * std::numeric_limits<float>::epsilon() *
+                                           (std::abs(ray.origin.z) + s.depth());
+                    if (ray.direction.z < 0.0f && zEnd <= rounding) setHit(ray, tb, hit);
+                }
+                hits[i] = hit;
+                p.finished[k] = true;
+            }
+            // Lanes that go on move to their next cell; finished ones take new rays.
+            const MI goesOn = hn::AndNot(hn::MaskFromVec(hn::Load(di, p.done)), act);
+            hn::Store(hn::IfThenElse(hn::RebindMask(df, goesOn), tc, ta), df, p.ta);
+            hn::Store(hn::IfThenElse(goesOn, ciNext, ci), di, p.ci);
+            hn::Store(hn::IfThenElse(goesOn, cjNext, cj), di, p.cj);
+            hn::Store(hn::IfThenElse(goesOn, wiNext, wi), di, p.wi);
+            hn::Store(hn::IfThenElse(goesOn, wjNext, wj), di, p.wj);
+            bool any = false;
+            for (size_t k = 0; k < n; ++k) {
+                if (p.finished[k]) fill(p, k);
+                any = any || p.active[k] != 0;
+            }
+            if (!any) return;
+            reload();
+        }
+    }
+};
+
+}  // namespace cell_walk
+
+void CellsHitPackets(const Surface& surface, std::span<const Ray> rays, std::span<Hit> hits) {
+    using namespace cell_walk;
+    Walk walk{surface, surface.paddedHeights().data(), rays, hits};
+    Packet p{};
+    for (size_t k = 0; k < kLanes; ++k) {
+        Walk::park(p, k);
+        if (k < hn::Lanes(DF())) walk.fill(p, k);
+    }
+    walk.run(p);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+HWY_EXPORT(CellsHitPackets);
+
+bool packetCellWalkSupports(const Surface& surface) {
+    const size_t padded = surface.paddedHeights().size();
+    return padded + size_t(surface.width()) + 4 < size_t(std::numeric_limits<int32_t>::max());
+}
+
+void cellsHitPackets(const Surface& surface, std::span<const Ray> rays, std::span<Hit> hits) {
+    HWY_DYNAMIC_DISPATCH(CellsHitPackets)(surface, rays, hits);
+}
+
+}  // namespace relief
+#endif  // HWY_ONCE
