@@ -57,9 +57,28 @@ export LSAN_OPTIONS=suppressions=$build/lsan.supp:print_suppressions=0
 # on exported maps and meets that ray too). The gcc run of scripts/test.sh asserts them; here they still run, and
 # only a sanitizer report (abort, exit 134) or a crash fails the job, not an assertion.
 float_calibrated='ExactVsEmbree.GrazingRayHasIllConditionedT:ConeTracer.SafeIsConservativeForEveryEncoding:Registry/ContractTest.AgainstExactReference/cone:MapExport.PromisingRowsKeepTheirContractOnExports'
+# Scale tests: the tests that take 4 s or more in the gcc job (where they all run and assert),
+# except those that feed the program hostile input (tampered maps, memory budgets), which are the
+# sanitizers' first business. Each repeats at scale (more maps, rays, variants or ISAs) code
+# that lighter tests also run here, and the instrumentation makes them 5-15x slower: together
+# they would take most of an hour on 2 cores (docs/robustness.md, "Sanitizer job").
+scale_tests=(
+    'Registry/VariantContractTest.AgainstExactReference/safety_(sd|cc)_sampled'  # SafetySampled.* here
+    'Registry/IsaDispatchTest.EveryIsaTracesBitIdentically/(safety_sd|safety_cc|curves)'
+    'SafetyMaps.(ConeSlopeMatchesDirectScan|DistanceInvariantPhiMax|DistanceInvariantAllRays)'
+    'SafetyMaps.ConeInvariant(IsotropicAndPhiMax)?'
+    'SafetyBuild.PrunedMapsEqualReference'
+    'Safety(Sd|Cc).FewerStepsThanTheReferenceWithinPhiMax.*'
+    'SafetyExterior.ExactFromExteriorViewsCc'
+    'QdmPaperMap.SkippingRingsChangesNothing'
+    'QdmMap.ProfileBoundsSFromAnyPositionInTheTexel'
+    'BenchCommand.EveryPresetSmokes'  # the other BenchCommand tests run each preset's code here
+    'bench_cpu_peers_quick'
+)
+skipped=$(IFS='|'; echo "${scale_tests[*]}")
 start=$SECONDS
 (cd "$build" && ctest --output-on-failure -j "$(nproc)" -LE gl \
-    -E "^(${float_calibrated//:/|})( |\$)")
+    -E "^(${float_calibrated//:/|}|${skipped})( |\$)")
 set +e
 "$build/relief_tests" --gtest_filter="$float_calibrated" >"$build/float-calibrated.log" 2>&1
 status=$?

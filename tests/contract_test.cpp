@@ -87,8 +87,13 @@ class VariantContractTest : public ::testing::TestWithParam<VariantCase> {};
 TEST_P(VariantContractTest, AgainstExactReference) {
     const TechniqueInfo& info = *findTechnique(GetParam().technique);
     const VariantSpec& variant = *GetParam().variant;
-    const testing::ContractRun run =
-        testing::runContractHarness(info, *parseParamList(variant.params), variant.clampOnly);
+    // An approximate variant promises nothing the harness could catch breaking: it records its
+    // statistics and checks that its hits lie on their rays. That needs no 64x64 maps, whose bakes
+    // dominate for the costliest forms (safety's sampled precomputation, 2048 rays per texel and
+    // direction class: ~100 s per set of 64x64 maps on 2 cores, 5x that under ASan).
+    const bool oddSizesOnly = variant.contract == Contract::Approximate;
+    const testing::ContractRun run = testing::runContractHarness(
+        info, *parseParamList(variant.params), variant.clampOnly, oddSizesOnly);
     ASSERT_TRUE(run.error.empty()) << run.error;
     EXPECT_EQ(run.contract, variant.contract);
     for (const std::string& map : run.brokenOn)

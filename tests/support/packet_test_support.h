@@ -1,13 +1,26 @@
 #pragma once
-// Test support for the SIMD packet paths (quadtree, maxmip, exact) and the ISA dispatch: hits
-// compared bit for bit, and a check run once per Highway target this machine has.
+// Test support for the SIMD packet paths (quadtree, maxmip, exact, cone) and the ISA dispatch:
+// hits compared bit for bit, a check run once per Highway target this machine has, and the maps
+// and coherent rays (camera, shadow) every packet test traces.
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
+#include <relief/core/check.h>
+#include <relief/core/generators.h>
 #include <relief/core/math.h>
+#include <relief/io/heightfield_io.h>
+#include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
+#include <support/walk_test_support.h>
 
 #include <bit>
+#include <cmath>
 #include <cstdint>
+#include <functional>
+#include <numbers>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace relief::packet_test {
 
@@ -33,6 +46,83 @@ void forEachTarget(Run run) {
         run();
     }
     hwy::SetSupportedTargetsForTest(0);
+}
+
+struct Counts {
+    size_t rays = 0, hits = 0, differences = 0;
+};
+
+using TraceSpan = std::function<void(std::span<const Ray>, std::span<Hit>)>;
+using TraceOne = std::function<Hit(const Ray&)>;
+
+// `packets` over the rays in 256-ray batches and odd-sized spans (a partly filled packet) against
+// `scalar` ray by ray: every difference counted, the first five reported.
+inline void compareBatches(const TraceSpan& packets, const TraceOne& scalar,
+                           const std::vector<Ray>& rays, const std::string& what, Counts& counts) {
+    std::vector<Hit> hits(rays.size());
+    const std::span<const Ray> all(rays);
+    for (size_t begin = 0, k = 0; begin < rays.size(); ++k) {
+        const size_t size = std::min(rays.size() - begin, k % 3 == 2 ? size_t(37) : size_t(256));
+        packets(all.subspan(begin, size), std::span<Hit>(hits).subspan(begin, size));
+        begin += size;
+    }
+    size_t reported = 0;
+    for (size_t k = 0; k < rays.size(); ++k) {
+        const Hit want = scalar(rays[k]);
+        ++counts.rays;
+        counts.hits += want.hit;
+        if (identical(want, hits[k])) continue;
+        ++counts.differences;
+        if (reported++ < 5)
+            ADD_FAILURE() << what << " " << walk_test::describe(rays[k]) << ": scalar hit "
+                          << want.hit << " t " << want.t << " steps " << want.steps
+                          << ", packet hit " << hits[k].hit << " t " << hits[k].t << " steps "
+                          << hits[k].steps;
+    }
+}
+
+inline std::shared_ptr<const Surface> surfaceOf(Heightfield hf, float depthRatio, EdgeMode edge) {
+    const float depth = depthRatio * float(std::max(hf.width, hf.height));
+    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(hf)),
+                                           depth, edge);
+}
+
+using NamedSurfaces = std::vector<std::pair<std::string, std::shared_ptr<const Surface>>>;
+
+// The maps the packet tests trace coherent rays over: fbm, terraces, walls and a real DEM.
+inline NamedSurfaces coherentRayMaps(EdgeMode edge) {
+    NamedSurfaces maps;
+    const auto add = [&](const std::string& name, Result<Heightfield> hf, float depthRatio) {
+        RELIEF_CHECK(hf.ok());
+        maps.emplace_back(name, surfaceOf(std::move(*hf), depthRatio, edge));
+    };
+    add("fbm 257x200", generateHeightfield("fbm", 257, 200, 3), 0.1f);
+    add("terraces 128", generateHeightfield("terraces", 128, 128, 5), 0.3f);
+    add("walls 96x80", generateHeightfield("walls", 96, 80, 5), 0.2f);
+    add("colorado 400",
+        loadHeightfield(std::string(RELIEF_SOURCE_DIR) + "/data/colorado-elevation-400.png"), 0.1f);
+    return maps;
+}
+
+// The primary rays of a 96x80 orbit view at `elevation` (azimuth 30°).
+inline std::vector<Ray> cameraRays(const Surface& surface, float elevation) {
+    OrbitView view;
+    view.elevationDeg = elevation;
+    view.azimuthDeg = 30.0f;
+    return primaryRays(Camera(view, surface, 96, 80));
+}
+
+// Shadow rays from the hits `exact` gives the rays toward a light at 30° (as the cpu-peers bench
+// makes them: from just above the hit).
+inline std::vector<Ray> shadowRays(const std::vector<Ray>& primary, const TraceOne& exact) {
+    const float light = 30.0f * std::numbers::pi_v<float> / 180.0f;
+    const vec3 toLight(std::cos(light) * 0.8f, std::cos(light) * 0.6f, std::sin(light));
+    std::vector<Ray> shadow;
+    for (const Ray& ray : primary) {
+        const Hit hit = exact(ray);
+        if (hit.hit) shadow.push_back(Ray{hit.position + vec3(0.0f, 0.0f, 1e-3f), toLight});
+    }
+    return shadow;
 }
 
 }  // namespace relief::packet_test

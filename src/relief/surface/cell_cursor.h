@@ -34,7 +34,9 @@ inline CellSpan cellAt(const Surface& s, const Ray& ray, float t, float tEnd) {
     return {ci, cj, std::max(t, std::min({tx, ty, tEnd}))};
 }
 
-// Leaving the box through its bottom face reaches z = 0 ≤ S (see cellsHit, cell_walk.h).
+// Leaving the box through its bottom face reaches z = 0 ≤ S: S is there. Where samples are 0 the
+// floor lies in that face and rounding can leave a cell test a hair above it at the exit, so the
+// test alone misses such hits (every walk's rule at the box exit: cellsHit, the marches).
 inline bool exitsThroughFloor(const Surface& s, const Ray& ray, float tExit) {
     const float zExit = ray.origin.z + tExit * ray.direction.z;
     const float zRounding =

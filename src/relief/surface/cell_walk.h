@@ -3,6 +3,7 @@
 // each cell), restricted to [ta, tb]. Over the whole clipped span with toExit it is the `exact`
 // row's tracer; the safety marches and relaxed-cone's rising rays walk parts of rays with it.
 // GLSL twin: cell_walk.glsl (same names).
+#include <relief/surface/cell_cursor.h>
 #include <relief/surface/cell_intersect.h>
 
 #include <algorithm>
@@ -44,13 +45,7 @@ inline bool cellsHit(const Surface& s, const Ray& ray, float ta, float tb, bool 
             return true;
         }
         if (tc >= tb) {
-            // Leaving through the bottom face means reaching z = 0 ≤ S: S is there. Where samples
-            // are 0 the floor lies in that face and rounding can leave the cell test a hair
-            // above it at the exit, so the test alone misses such hits.
-            const float zEnd = o.z + tb * d.z;
-            const float rounding =
-                4.0f * std::numeric_limits<float>::epsilon() * (std::abs(o.z) + s.depth());
-            if (toExit && d.z < 0.0f && zEnd <= rounding) {
+            if (toExit && exitsThroughFloor(s, ray, tb)) {
                 setHit(ray, tb, hit);
                 return true;
             }

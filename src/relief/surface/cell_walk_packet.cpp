@@ -12,6 +12,7 @@
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/cell_walk.h>
 #include <relief/surface/cell_walk_packet.h>
+#include <relief/surface/packet_lanes-inl.h>
 
 #include <cstdint>
 #include <limits>
@@ -23,13 +24,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace cell_walk {
 
-using DF = hn::CappedTag<float, 16>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
-using MI = hn::Mask<DI>;
-constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
+using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 
 // The lanes' state, structure of arrays, read into vectors when lanes change rays.
 struct Packet {
@@ -230,14 +225,8 @@ struct Walk {
                     }
                 }
                 if (!p.done[k]) continue;
-                if (p.tc[k] >= p.tb[k]) {
-                    // cellsHit's floor rule at the box exit (toExit)
-                    const float tb = p.tb[k];
-                    const float zEnd = ray.origin.z + tb * ray.direction.z;
-                    const float rounding = 4.0f * std::numeric_limits<float>::epsilon() *
-                                           (std::abs(ray.origin.z) + s.depth());
-                    if (ray.direction.z < 0.0f && zEnd <= rounding) setHit(ray, tb, hit);
-                }
+                if (p.tc[k] >= p.tb[k] && exitsThroughFloor(s, ray, p.tb[k]))
+                    setHit(ray, p.tb[k], hit);  // cellsHit's rule at the box exit (toExit)
                 hits[i] = hit;
                 p.finished[k] = true;
             }

@@ -11,6 +11,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
+#include <relief/surface/packet_lanes-inl.h>
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 
@@ -21,13 +22,7 @@ namespace relief {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
-using DF = hn::CappedTag<float, 16>;
-using DI = hn::RebindToSigned<DF>;
-using VF = hn::Vec<DF>;
-using VI = hn::Vec<DI>;
-using MF = hn::Mask<DF>;
-using MI = hn::Mask<DI>;
-constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
+using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 
 // The lanes' state, structure of arrays: the cursor (WalkCursor) and the ray's constants
 // (WalkRay), read into vectors when lanes change rays; the scalar parts read them by lane.

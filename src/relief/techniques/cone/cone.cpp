@@ -1,8 +1,13 @@
 #include <relief/techniques/cone/cone.h>
+#include <relief/techniques/cone/cone_packet.h>
 
 namespace relief {
 
 namespace {
+void tracePackets(const ConeTracer& tracer, std::span<const Ray> rays, std::span<Hit> hits) {
+    coneMarchPackets(tracer.surface(), tracer.map(), tracer.limits(), rays, hits);
+}
+
 ConeKind coneKind(int variant) {
     return variant == 0 ? ConeKind::SafeStrict : ConeKind::FaithfulStrict;
 }
@@ -15,7 +20,11 @@ Result<std::unique_ptr<Tracer>> createCone(const TechniqueInput& input) {
     if (!map) return map.error();
     ConeLimits limits;
     limits.maxSteps = input.params.getInt("max-steps");
-    return makeBatchTracer(ConeTracer(input.surface, std::move(*map), limits));
+    ConeTracer tracer(input.surface, std::move(*map), limits);
+    if (packetConeMarchSupports(tracer.surface(), tracer.map()) && packetsEnabled())
+        return std::unique_ptr<Tracer>(
+            new PacketBatchTracer<ConeTracer, tracePackets>(std::move(tracer)));
+    return makeBatchTracer(std::move(tracer));
 }
 
 Status checkCone(const TechniqueInput& input) {

@@ -20,6 +20,8 @@
 //   force to the bit. 1024² fbm on two threads: safe 1.9 s wall / 1.4 s CPU, faithful 5.2 s /
 //   3.5 s on a loaded machine (docs/cones.md; about 4.5× per doubling of the side).
 // Steps = cone steps + exact cell tests; fetches = 1 per cone step + 4 per cell test.
+// Batches (clamp mode) go through the SIMD packet march (cone_packet.h), the same hits bit for
+// bit, unless the ISA is baseline or RELIEF_PACKETS=0.
 // Departures: the footprint frustum (rather than a point apex) and the exact finish make the
 //   method conservative on S; the map is fetched nearest-texel (no interpolation between
 //   texels, which would not be conservative); rays enter through any face (Surface::clip).
@@ -48,6 +50,9 @@ public:
         : m_surface(std::move(surface)), m_map(std::move(map)), m_limits(limits) {}
 
     Hit trace(const Ray& ray) const;
+    const Surface& surface() const { return *m_surface; }
+    const ConeMap& map() const { return *m_map; }
+    ConeLimits limits() const { return m_limits; }
 
 private:
     std::shared_ptr<const Surface> m_surface;

@@ -1,9 +1,7 @@
 // The packet walk (quadtree's and maxmip's) against the scalar walk it vectorizes: every field of every hit
 // identical, bit for bit, on adversarial maps and rays (walk_test_support.h), camera rays over
-// fbm and a real DEM, clamp and repeat.
+// fbm, terraces, walls and a real DEM, clamp and repeat.
 #include <gtest/gtest.h>
-#include <relief/io/heightfield_io.h>
-#include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/quadtree/quadtree.h>
 #include <relief/techniques/registry.h>
@@ -15,63 +13,29 @@
 namespace relief {
 namespace {
 
+using packet_test::Counts;
 using packet_test::forEachTarget;
 using packet_test::identical;
 
-struct Counts {
-    size_t rays = 0, hits = 0, differences = 0;
-};
-
-// Scalar walk ray by ray; packet walk in traceAll's 256-ray batches and over odd-sized spans
-// (a partly filled last packet). Both policies: Parent (quadtree), Ancestor (maxmip).
+// The packet walk against the scalar walk it vectorizes, both policies: Parent (quadtree),
+// Ancestor (maxmip).
 void compare(const std::shared_ptr<const Surface>& surface, const std::vector<Ray>& rays,
              const std::string& what, Counts& counts) {
     const auto pyramid = std::make_shared<const MaxPyramid>(*surface);
     ASSERT_TRUE(packetWalkSupports(*pyramid));
-    for (const Ascent ascent : {Ascent::Parent, Ascent::Ancestor}) {
-        std::vector<Hit> packets(rays.size());
-        const std::span<const Ray> all(rays);
-        for (size_t begin = 0, k = 0; begin < rays.size(); ++k) {
-            const size_t size =
-                std::min(rays.size() - begin, k % 3 == 2 ? size_t(37) : size_t(256));
-            walkPyramidPackets(*surface, *pyramid, all.subspan(begin, size),
-                               std::span<Hit>(packets).subspan(begin, size), ascent);
-            begin += size;
-        }
-        const MaxBound bound(*pyramid);
-        size_t reported = 0;
-        for (size_t k = 0; k < rays.size(); ++k) {
-            const Hit want =
-                ascent == Ascent::Parent
-                    ? walkPyramid<Ascent::Parent>(*surface, pyramid->layout(), bound, rays[k], {})
-                    : walkPyramid<Ascent::Ancestor>(*surface, pyramid->layout(), bound, rays[k],
-                                                    {});
-            ++counts.rays;
-            counts.hits += want.hit;
-            if (identical(want, packets[k])) continue;
-            ++counts.differences;
-            if (reported++ < 5)
-                ADD_FAILURE() << what << (ascent == Ascent::Parent ? " parent " : " ancestor ")
-                              << walk_test::describe(rays[k]) << ": scalar hit " << want.hit
-                              << " t " << want.t << " steps " << want.steps << ", packet hit "
-                              << packets[k].hit << " t " << packets[k].t << " steps "
-                              << packets[k].steps;
-        }
-    }
-}
-
-std::vector<Ray> cameraRays(const Surface& surface, float elevation, float azimuth, int width,
-                            int height) {
-    OrbitView view;
-    view.elevationDeg = elevation;
-    view.azimuthDeg = azimuth;
-    return primaryRays(Camera(view, surface, width, height));
-}
-
-std::shared_ptr<const Surface> surfaceOf(Heightfield hf, float depthRatio, EdgeMode edge) {
-    const float depth = depthRatio * float(std::max(hf.width, hf.height));
-    return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(hf)),
-                                           depth, edge);
+    const MaxBound bound(*pyramid);
+    for (const Ascent ascent : {Ascent::Parent, Ascent::Ancestor})
+        packet_test::compareBatches(
+            [&](std::span<const Ray> batch, std::span<Hit> hits) {
+                walkPyramidPackets(*surface, *pyramid, batch, hits, ascent);
+            },
+            [&](const Ray& ray) {
+                return ascent == Ascent::Parent
+                           ? walkPyramid<Ascent::Parent>(*surface, pyramid->layout(), bound, ray, {})
+                           : walkPyramid<Ascent::Ancestor>(*surface, pyramid->layout(), bound, ray,
+                                                           {});
+            },
+            rays, what + (ascent == Ascent::Parent ? " parent" : " ancestor"), counts);
 }
 
 TEST(PyramidWalkPacket, IdenticalToScalarOnAdversarialMapsAndRays) {
@@ -93,24 +57,13 @@ TEST(PyramidWalkPacket, IdenticalToScalarOnAdversarialMapsAndRays) {
 TEST(PyramidWalkPacket, IdenticalToScalarOnCameraRaysFbmAndDemCrop) {
     forEachTarget([] {
         Counts counts;
-        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
-            std::vector<std::pair<std::string, std::shared_ptr<const Surface>>> maps;
-            auto fbm = generateHeightfield("fbm", 257, 200, 3);
-            ASSERT_TRUE(fbm.ok());
-            maps.emplace_back("fbm 257x200", surfaceOf(std::move(*fbm), 0.1f, edge));
-            auto terraces = generateHeightfield("terraces", 128, 128, 5);
-            ASSERT_TRUE(terraces.ok());
-            maps.emplace_back("terraces 128", surfaceOf(std::move(*terraces), 0.3f, edge));
-            auto dem = loadHeightfield(std::string(RELIEF_SOURCE_DIR) + "/data/colorado-elevation-400.png");
-            ASSERT_TRUE(dem.ok()) << dem.error().message;
-            maps.emplace_back("colorado 400", surfaceOf(std::move(*dem), 0.1f, edge));
-            for (const auto& [name, surface] : maps) {
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (const auto& [name, surface] : packet_test::coherentRayMaps(edge)) {
                 for (float elevation : {15.3f, 40.2f, 65.1f})
-                    compare(surface, cameraRays(*surface, elevation, 30.0f, 96, 80), name, counts);
+                    compare(surface, packet_test::cameraRays(*surface, elevation), name, counts);
                 walk_test::RayMaker maker(*surface, 77);
                 compare(surface, maker.all(300), name + " random", counts);
             }
-        }
         std::printf("packet walk (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
                     counts.rays, counts.hits, counts.differences);
         EXPECT_GE(counts.rays, 100000u);

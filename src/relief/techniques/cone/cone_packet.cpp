@@ -1,0 +1,305 @@
+// The packet cone march (cone_packet.h): compiled once per Highway target (foreach_target.h
+// re-includes this file), with -ffp-contract=off (CMakeLists.txt) so that no target fuses a
+// multiply and an add the scalar march keeps apart.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "relief/techniques/cone/cone_packet.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+#include <relief/surface/cell_test-inl.h>
+#include <relief/surface/packet_lanes-inl.h>
+#include <relief/techniques/cone/cone_packet.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+namespace cone_march {
+
+using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
+
+struct Packet {
+    alignas(64) float t[kLanes], tExit[kLanes], horizontal[kLanes];
+    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    alignas(64) int32_t steps[kLanes], fetches[kLanes], active[kLanes];
+    // Written for the scalar part: the lanes that may end, the cell tested and its span.
+    alignas(64) int32_t leaves[kLanes], candidate[kLanes], cellExit[kLanes], ci[kLanes], cj[kLanes];
+    alignas(64) float to[kLanes], tStart[kLanes];  // the cell test's span [tStart, to]
+    size_t index[kLanes];
+};
+
+struct March {
+    const Surface& s;
+    const float* cones;    // (a, c) per texel
+    const float* heights;  // paddedHeights()
+    ConeLimits limits;
+    std::span<const Ray> rays;
+    std::span<Hit> hits;
+    size_t next = 0;
+
+    // Puts the batch's next ray that enters the box into `lane` (as safeStepMarch starts it), or
+    // parks the lane (at t = 0 on a valid texel, never done).
+    void fill(Packet& p, size_t lane) {
+        while (next < rays.size()) {
+            const size_t i = next++;
+            const Ray& ray = rays[i];
+            const RayInterval span = s.clip(ray);
+            if (span.empty()) {
+                hits[i] = Hit{};
+                continue;
+            }
+            const vec3& o = ray.origin;
+            const vec3& d = ray.direction;
+            p.t[lane] = span.tEnter;
+            p.tExit[lane] = span.tExit;
+            p.horizontal[lane] = std::sqrt(d.x * d.x + d.y * d.y);
+            p.ox[lane] = o.x;
+            p.oy[lane] = o.y;
+            p.oz[lane] = o.z;
+            p.dx[lane] = d.x;
+            p.dy[lane] = d.y;
+            p.dz[lane] = d.z;
+            p.steps[lane] = p.fetches[lane] = 0;
+            p.active[lane] = -1;
+            p.index[lane] = i;
+            return;
+        }
+        park(p, lane);
+    }
+
+    static void park(Packet& p, size_t lane) {
+        p.active[lane] = 0;
+        p.t[lane] = p.tExit[lane] = p.horizontal[lane] = 0.0f;
+        p.ox[lane] = p.oy[lane] = 0.5f;
+        p.oz[lane] = p.dx[lane] = p.dy[lane] = p.dz[lane] = 0.0f;
+        p.steps[lane] = p.fetches[lane] = 0;
+    }
+
+    // The exit of cell `cell` along one axis (cellAt's exitAlong).
+    static VF exitAlong(VI cell, VF origin, VF dir) {
+        const DF df;
+        const VF inf = hn::Set(df, kInfinity);
+        const VF side = hn::IfThenElse(hn::Gt(dir, hn::Zero(df)), hn::Set(df, 1.5f),
+                                       hn::Set(df, 0.5f));
+        const VF t = hn::Sub(hn::Add(hn::ConvertTo(df, cell), side), origin) / dir;
+        return hn::IfThenElse(hn::Eq(dir, hn::Zero(df)), inf, t);
+    }
+
+    // cellAt (cell_cursor.h) across lanes, clamp mode: the cell at position (px, py) of ray
+    // parameter t, and where the ray leaves it (≤ tEnd).
+    void cellAt(VF t, VF px, VF py, VF ox, VF oy, VF dx, VF dy, VF tEnd, VI& ci, VI& cj,
+                VF& tb) const {
+        const DF df;
+        const DI di;
+        const VF half = hn::Set(df, 0.5f);
+        const VI one = hn::Set(di, 1), minusOne = hn::Set(di, -1);
+        ci = hn::ConvertTo(di, hn::Floor(hn::Sub(px, half)));
+        cj = hn::ConvertTo(di, hn::Floor(hn::Sub(py, half)));
+        VF tx = exitAlong(ci, ox, dx), ty = exitAlong(cj, oy, dy);
+        // On the edge: move on.
+        const MF moveX = hn::Le(tx, t), moveY = hn::Le(ty, t);
+        const VI stepX = hn::IfThenElse(hn::RebindMask(di, hn::Gt(dx, hn::Zero(df))), one, minusOne);
+        const VI stepY = hn::IfThenElse(hn::RebindMask(di, hn::Gt(dy, hn::Zero(df))), one, minusOne);
+        ci = hn::IfThenElse(hn::RebindMask(di, moveX), hn::Add(ci, stepX), ci);
+        cj = hn::IfThenElse(hn::RebindMask(di, moveY), hn::Add(cj, stepY), cj);
+        tx = hn::IfThenElse(moveX, exitAlong(ci, ox, dx), tx);
+        ty = hn::IfThenElse(moveY, exitAlong(cj, oy, dy), ty);
+        ci = hn::Min(hn::Max(ci, minusOne), hn::Set(di, s.width() - 1));  // std::clamp
+        cj = hn::Min(hn::Max(cj, minusOne), hn::Set(di, s.height() - 1));
+        // std::max(t, std::min({tx, ty, tEnd}))
+        VF m = tx;
+        m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
+        m = hn::IfThenElse(hn::Lt(tEnd, m), tEnd, m);
+        tb = hn::IfThenElse(hn::Lt(t, m), m, t);
+    }
+
+    Hit laneHit(const Packet& p, size_t k) const {
+        Hit hit;
+        hit.steps = p.steps[k];
+        hit.fetches = p.fetches[k];
+        return hit;
+    }
+
+    // safeStepMarch's loop in every active lane until the batch is done.
+    void run(Packet& p) {
+        const DF df;
+        const DI di;
+        const size_t n = hn::Lanes(df);
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), fourI = hn::Set(di, 4);
+        const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
+        const VF stall = hn::Set(df, limits.stall);
+        const VI maxSteps = hn::Set(di, limits.maxSteps);
+        const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
+        const VI width = hn::Set(di, s.width()), stride = hn::Set(di, s.width() + 2);
+
+        MI act = hn::MaskFromVec(zeroI);
+        VF t = zero, tExit = zero, horizontal = zero, ox = zero, oy = zero, oz = zero, dx = zero,
+           dy = zero, dz = zero;
+        VI steps = zeroI, fetches = zeroI;
+        const auto reload = [&] {
+            act = hn::MaskFromVec(hn::Load(di, p.active));
+            t = hn::Load(df, p.t);
+            tExit = hn::Load(df, p.tExit);
+            horizontal = hn::Load(df, p.horizontal);
+            ox = hn::Load(df, p.ox);
+            oy = hn::Load(df, p.oy);
+            oz = hn::Load(df, p.oz);
+            dx = hn::Load(df, p.dx);
+            dy = hn::Load(df, p.dy);
+            dz = hn::Load(df, p.dz);
+            steps = hn::Load(di, p.steps);
+            fetches = hn::Load(di, p.fetches);
+        };
+        reload();
+        if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
+        for (;;) {
+            steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
+            fetches = hn::Add(fetches, hn::IfThenElseZero(act, oneI));
+            // p = ray.at(t); the map's texel there (ConeMap::at, clamp mode)
+            const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
+            const VF pz = hn::Add(oz, hn::Mul(t, dz));
+            const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(px)), zeroI), lastX);
+            const VI iy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(py)), zeroI), lastY);
+            const VI texel = hn::ShiftLeft<1>(hn::Add(hn::Mul(iy, width), ix));
+            const VF a = hn::GatherIndex(df, cones, texel);
+            const VF c = hn::GatherIndex(df, cones, hn::Add(texel, oneI));
+            // coneStep where the position is in the frustum and above the floor, else -∞
+            const VF room = hn::Mul(c, hn::Sub(pz, a));
+            const VF closing = hn::Sub(horizontal, hn::Mul(c, dz));
+            const VF opening = hn::IfThenElse(hn::Ge(room, zero), inf, zero);
+            const VF cone = hn::IfThenElse(hn::Le(closing, zero), opening, room / closing);
+            const MF inFrustum = hn::And(hn::Ge(pz, a), hn::Gt(pz, zero));
+            const VF dt = hn::IfThenElse(inFrustum, cone, hn::Set(df, -kInfinity));
+            const MI stepping = hn::And(act, hn::RebindMask(di, hn::Ge(dt, stall)));
+            const VF stepped = hn::Add(t, dt);
+            const MI leaves = hn::And(stepping, hn::RebindMask(di, hn::Ge(stepped, tExit)));
+            const MI tests = hn::AndNot(stepping, act);
+
+            VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
+            MI candidate = hn::AndNot(act, act), cellExit = candidate;
+            VI ci = zeroI, cj = zeroI;
+            VF to = t;
+            if (!hn::AllFalse(di, tests)) {
+                // The exact test of the cell the ray is in, from t to where it leaves it.
+                cellAt(t, px, py, ox, oy, dx, dy, tExit, ci, cj, to);
+                ci = hn::IfThenElse(tests, ci, hn::Set(di, -1));  // others: a cell in the array
+                cj = hn::IfThenElse(tests, cj, hn::Set(di, -1));
+                fetches = hn::Add(fetches, hn::IfThenElseZero(tests, fourI));
+                const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
+                const MF misses = cell_test::SegmentMissesCell(
+                    df, heights, offset, stride, hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
+                    {ox, oy, oz, dx, dy, dz}, t, to);
+                // A miss gives th = ∞, still a hit when to = ∞: the scalar test decides there.
+                candidate =
+                    hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(to, inf))), tests);
+                cellExit = hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)));
+                tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
+            }
+            const MI capped = hn::And(act, hn::Eq(steps, maxSteps));
+            const MI mayEnd = hn::Or(hn::Or(leaves, candidate), hn::Or(cellExit, capped));
+            if (hn::AllFalse(di, mayEnd)) {
+                t = tNext;
+                continue;
+            }
+
+            // Lanes that may end here, one by one (safeStepMarch's order); p.t: where each goes on.
+            hn::Store(tNext, df, p.t);
+            hn::Store(steps, di, p.steps);
+            hn::Store(fetches, di, p.fetches);
+            hn::Store(to, df, p.to);
+            hn::Store(hn::VecFromMask(di, leaves), di, p.leaves);
+            hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
+            hn::Store(hn::VecFromMask(di, cellExit), di, p.cellExit);
+            hn::Store(ci, di, p.ci);
+            hn::Store(cj, di, p.cj);
+            hn::Store(t, df, p.tStart);
+            bool any = false;
+            for (size_t k = 0; k < n; ++k) {
+                if (p.active[k] == 0) continue;
+                const size_t i = p.index[k];
+                const Ray& ray = rays[i];
+                bool finished = false;
+                if (p.leaves[k]) {
+                    const Hit hit = laneHit(p, k);
+                    hits[i] = exitsThroughFloor(s, ray, p.tExit[k]) ? hitAt(ray, p.tExit[k], hit)
+                                                                    : hit;
+                    finished = true;
+                } else {
+                    if (p.candidate[k]) {
+                        const float th =
+                            firstHitInCell(s.cellPlanes(p.ci[k], p.cj[k]), ray, p.ci[k], p.cj[k],
+                                           p.tStart[k], p.to[k]);
+                        if (th <= p.to[k]) {
+                            hits[i] = hitAt(ray, th, laneHit(p, k));
+                            finished = true;
+                        }
+                    }
+                    if (!finished && p.cellExit[k]) {
+                        const Hit hit = laneHit(p, k);
+                        hits[i] = exitsThroughFloor(s, ray, p.tExit[k])
+                                      ? hitAt(ray, p.tExit[k], hit)
+                                      : hit;
+                        finished = true;
+                    }
+                    if (!finished && p.steps[k] >= limits.maxSteps) {
+                        // capped: the last position, never past the first hit
+                        hits[i] = hitAt(ray, p.t[k], laneHit(p, k));
+                        finished = true;
+                    }
+                }
+                if (finished) fill(p, k);
+                any = any || p.active[k] != 0;
+            }
+            if (!any) return;
+            reload();
+        }
+    }
+
+};
+
+}  // namespace cone_march
+
+void ConeMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits limits,
+                      std::span<const Ray> rays, std::span<Hit> hits) {
+    using namespace cone_march;
+    March march{surface, &map.texels().data()->x, surface.paddedHeights().data(), limits, rays,
+                hits};
+    Packet p{};
+    for (size_t k = 0; k < kLanes; ++k) {
+        March::park(p, k);
+        if (k < hn::Lanes(DF())) march.fill(p, k);
+    }
+    march.run(p);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+HWY_EXPORT(ConeMarchPackets);
+
+bool packetConeMarchSupports(const Surface& surface, const ConeMap& map) {
+    const size_t limit = size_t(std::numeric_limits<int32_t>::max());
+    return surface.edge() == EdgeMode::Clamp && map.width() == surface.width() &&
+           map.height() == surface.height() && 2 * map.texels().size() + 2 < limit &&
+           surface.paddedHeights().size() + size_t(surface.width()) + 4 < limit;
+}
+
+void coneMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits limits,
+                      std::span<const Ray> rays, std::span<Hit> hits) {
+    HWY_DYNAMIC_DISPATCH(ConeMarchPackets)(surface, map, limits, rays, hits);
+}
+
+}  // namespace relief
+#endif  // HWY_ONCE

@@ -1,0 +1,115 @@
+// cone's packet march (cone_packet.h) against its scalar march: every field of every hit
+// identical, bit for bit, on every Highway target this machine has; safe and faithful maps, the
+// default cap, a small one and 8-bit codes; the adversarial contract maps and ray families
+// (walk_test_support.h) and camera, shadow and random rays over fbm, terraces, walls and a real
+// DEM (clamp mode: repeat keeps the scalar march).
+#include <gtest/gtest.h>
+#include <relief/techniques/cone/cone.h>
+#include <relief/techniques/cone/cone_packet.h>
+#include <relief/techniques/registry.h>
+#include <support/packet_test_support.h>
+#include <support/walk_test_support.h>
+
+#include <cstdio>
+
+namespace relief {
+namespace {
+
+using packet_test::Counts;
+using packet_test::forEachTarget;
+using Overrides = std::vector<std::pair<std::string, double>>;
+
+std::unique_ptr<Tracer> coneTracer(const std::shared_ptr<const Surface>& surface,
+                                   const Overrides& overrides) {
+    auto tracer = createTracer("cone", surface, overrides);
+    RELIEF_CHECK(tracer.ok());
+    return std::move(*tracer);
+}
+
+// The row's packet path against its scalar path (ConeTracer::trace ray by ray).
+void compare(const Tracer& tracer, const std::vector<Ray>& rays, const std::string& what,
+             Counts& counts) {
+    const auto* packets = dynamic_cast<const PacketTracer*>(&tracer);
+    ASSERT_NE(packets, nullptr) << what;
+    packet_test::compareBatches(
+        [&](std::span<const Ray> batch, std::span<Hit> hits) { packets->traceBatch(batch, hits); },
+        [&](const Ray& ray) {
+            Hit hit;
+            packets->scalarPath().traceBatch({&ray, 1}, {&hit, 1});
+            return hit;
+        },
+        rays, what, counts);
+}
+
+const Overrides kCases[] = {{}, {{"variant", 1}}, {{"max-steps", 6}}, {{"bits", 8}}};
+
+std::string describe(const Overrides& overrides) {
+    return overrides.empty() ? "defaults"
+                             : overrides[0].first + "=" + std::to_string(int(overrides[0].second));
+}
+
+TEST(ConePackets, IdenticalToScalarOnAdversarialMapsAndRays) {
+    if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
+    forEachTarget([] {
+        Counts counts;
+        uint32_t seed = 1;
+        for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
+            if (m.edge != EdgeMode::Clamp) continue;
+            const auto surface = walk_test::makeSurface(m, seed);
+            walk_test::RayMaker maker(*surface, seed++);
+            const std::vector<Ray> rays = maker.all(100);
+            for (const Overrides& overrides : kCases)
+                compare(*coneTracer(surface, overrides), rays,
+                        walk_test::describe(m) + " " + describe(overrides), counts);
+        }
+        std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
+                    counts.rays, counts.hits, counts.differences);
+        EXPECT_GE(counts.rays, 100000u);
+        EXPECT_EQ(counts.differences, 0u);
+    });
+}
+
+TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
+    if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
+    forEachTarget([] {
+        Counts counts;
+        for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
+            const auto exact = createTracer("exact", surface);
+            ASSERT_TRUE(exact.ok());
+            std::vector<Ray> rays;
+            for (float elevation : {15.3f, 40.2f, 65.1f}) {
+                const std::vector<Ray> primary = packet_test::cameraRays(*surface, elevation);
+                const std::vector<Ray> shadow = packet_test::shadowRays(primary, [&](const Ray& ray) {
+                    Hit hit;
+                    (*exact)->traceBatch({&ray, 1}, {&hit, 1});
+                    return hit;
+                });
+                rays.insert(rays.end(), primary.begin(), primary.end());
+                rays.insert(rays.end(), shadow.begin(), shadow.end());
+            }
+            walk_test::RayMaker maker(*surface, 77);
+            const std::vector<Ray> random = maker.all(300);
+            rays.insert(rays.end(), random.begin(), random.end());
+            for (const Overrides& overrides : {Overrides{}, Overrides{{"variant", 1}}})
+                compare(*coneTracer(surface, overrides), rays, name + " " + describe(overrides),
+                        counts);
+        }
+        std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
+                    counts.rays, counts.hits, counts.differences);
+        EXPECT_GE(counts.rays, 100000u);
+        EXPECT_EQ(counts.differences, 0u);
+    });
+}
+
+// The row takes the packet path in clamp mode (any parameters), the scalar march in repeat mode.
+TEST(ConePackets, RegistryConeTracesPacketsInClampMode) {
+    for (const EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const auto surface = walk_test::makeSurface({"fbm", 64, 48, edge, 0.2f});
+        const auto tracer = coneTracer(surface, {});
+        const bool packets = dynamic_cast<const PacketTracer*>(tracer.get()) != nullptr;
+        EXPECT_EQ(packets, edge == EdgeMode::Clamp && packetsEnabled());
+    }
+}
+
+}  // namespace
+}  // namespace relief
