@@ -3,6 +3,7 @@
 #include <relief/bench/peers_report.h>
 
 #include <relief/core/isa.h>
+#include <relief/techniques/common/pyramid_walk_packet.h>
 
 #include <algorithm>
 #include <map>
@@ -213,6 +214,13 @@ ReportTable targetsTable(const std::vector<const BenchRow*>& rows, const PeerInd
 // The instruction set the CPU tracers ran with (core/isa.h: --isa, RELIEF_ISA or the CPU's best).
 std::string_view benchIsa() { return tracerIsa(); }
 
+// The Highway target the packet rows ran on (the lane width), or why they ran scalar.
+static std::string packetTarget() {
+    if (!packetsEnabled()) return "none (RELIEF_PACKETS=0: scalar)";
+    if (activeIsa() == Isa::Baseline) return "none (baseline ISA: scalar)";
+    return packetWalkTarget();
+}
+
 std::vector<ReportTable> cpuPeersTables(const std::vector<BenchRow>& rows,
                                         const BenchConfig& config, const BenchMeta& meta) {
     if (!meta.timings) return {};
@@ -223,9 +231,10 @@ std::vector<ReportTable> cpuPeersTables(const std::vector<BenchRow>& rows,
                                        bakesTable(cpu)};
     tables.front().caption =
         fmt::format(
-            "ISA: {}; threads: {}; machine: {}; date: {}; load average before: {}, "
-            "after: {}. ",
-            benchIsa(), meta.threads, meta.machine, meta.date, meta.loadBefore, meta.loadAfter) +
+            "ISA: {}; packet target: {}; threads: {}; machine: {}; date: {}; load average "
+            "before: {}, after: {}. ",
+            benchIsa(), packetTarget(), meta.threads, meta.machine, meta.date, meta.loadBefore,
+            meta.loadAfter) +
         tables.front().caption;
     return tables;
 }
