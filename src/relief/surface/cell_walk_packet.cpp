@@ -13,6 +13,7 @@
 #include <relief/surface/cell_walk.h>
 #include <relief/surface/cell_walk_packet.h>
 #include <relief/surface/packet_lanes-inl.h>
+#include <relief/surface/ray_feed.h>
 
 #include <cstdint>
 #include <limits>
@@ -50,43 +51,36 @@ struct Walk {
     // Puts the batch's next ray that enters the box into `lane` (as cellsHit starts it), or parks
     // the lane.
     void fill(Packet& p, size_t lane) {
-        while (next < rays.size()) {
-            const size_t i = next++;
-            const Ray& ray = rays[i];
-            const RayInterval span = s.clip(ray);
-            if (span.empty()) {
-                hits[i] = Hit{};
-                continue;
-            }
-            const vec3& o = ray.origin;
-            const vec3& d = ray.direction;
-            const vec3 start = ray.at(span.tEnter);
-            const int ci = s.cellOfX(start.x), cj = s.cellOfY(start.y);
-            const bool clamp = s.edge() == EdgeMode::Clamp;
-            p.ta[lane] = span.tEnter;
-            p.tb[lane] = span.tExit;
-            p.ox[lane] = o.x;
-            p.oy[lane] = o.y;
-            p.oz[lane] = o.z;
-            p.dx[lane] = d.x;
-            p.dy[lane] = d.y;
-            p.dz[lane] = d.z;
-            p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
-            p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
-            p.invX[lane] = 1.0f / d.x;
-            p.invY[lane] = 1.0f / d.y;
-            p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
-            p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
-            p.ci[lane] = ci;
-            p.cj[lane] = cj;
-            p.wi[lane] = clamp ? ci : texelIndex(ci, s.width(), EdgeMode::Repeat);
-            p.wj[lane] = clamp ? cj : texelIndex(cj, s.height(), EdgeMode::Repeat);
-            p.steps[lane] = 0;
-            p.active[lane] = -1;
-            p.index[lane] = i;
-            return;
-        }
-        park(p, lane);
+        size_t i;
+        RayInterval span;
+        if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+        const Ray& ray = rays[i];
+        const vec3& o = ray.origin;
+        const vec3& d = ray.direction;
+        const vec3 start = ray.at(span.tEnter);
+        const int ci = s.cellOfX(start.x), cj = s.cellOfY(start.y);
+        const bool clamp = s.edge() == EdgeMode::Clamp;
+        p.ta[lane] = span.tEnter;
+        p.tb[lane] = span.tExit;
+        p.ox[lane] = o.x;
+        p.oy[lane] = o.y;
+        p.oz[lane] = o.z;
+        p.dx[lane] = d.x;
+        p.dy[lane] = d.y;
+        p.dz[lane] = d.z;
+        p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
+        p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
+        p.invX[lane] = 1.0f / d.x;
+        p.invY[lane] = 1.0f / d.y;
+        p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
+        p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+        p.ci[lane] = ci;
+        p.cj[lane] = cj;
+        p.wi[lane] = clamp ? ci : texelIndex(ci, s.width(), EdgeMode::Repeat);
+        p.wj[lane] = clamp ? cj : texelIndex(cj, s.height(), EdgeMode::Repeat);
+        p.steps[lane] = 0;
+        p.active[lane] = -1;
+        p.index[lane] = i;
     }
 
     // An idle lane: on cell (-1, -1), whose corners are in the array, and not moving.

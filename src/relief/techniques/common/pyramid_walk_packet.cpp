@@ -12,6 +12,7 @@
 
 #include <hwy/highway.h>
 #include <relief/surface/packet_lanes-inl.h>
+#include <relief/surface/ray_feed.h>
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 
@@ -52,47 +53,43 @@ struct Walk {
     // Puts the batch's next ray that needs a walk into `lane` (as walkPyramid starts it), or
     // parks the lane (a valid level-0 node, so that its gathers stay in the pyramid).
     void fill(Packet& p, size_t lane) {
-        while (next < rays.size()) {
-            const size_t i = next++;
-            const Ray& ray = rays[i];
-            const RayInterval span = s.clip(ray);
-            if (span.empty()) {
-                hits[i] = Hit{};
-                continue;
-            }
-            const WalkRay r = makeWalkRay(ray, span, s, layout);
-            const WalkCursor c = startCursor(s, layout, r);
-            p.t[lane] = c.t;
-            p.exitX[lane] = c.exitX;
-            p.exitY[lane] = c.exitY;
-            p.level[lane] = c.level;
-            p.px[lane] = c.px;
-            p.py[lane] = c.py;
-            p.baseX[lane] = c.baseX;
-            p.baseY[lane] = c.baseY;
-            p.ox[lane] = r.o.x;
-            p.oy[lane] = r.o.y;
-            p.oz[lane] = r.o.z;
-            p.dz[lane] = r.d.z;
-            p.invX[lane] = r.invX;
-            p.invY[lane] = r.invY;
-            p.invZ[lane] = r.invZ;
-            p.tExit[lane] = r.tExit;
-            p.slack[lane] = r.slack;
-            p.stepX[lane] = r.stepX;
-            p.stepY[lane] = r.stepY;
-            p.exitMaskX[lane] = r.exitMaskX;
-            p.exitMaskY[lane] = r.exitMaskY;
-            p.active[lane] = -1;
-            p.steps[lane] = 0;
-            p.fetches[lane] = 0;
-            p.ray[lane] = r;
-            p.index[lane] = i;
+        size_t i;
+        RayInterval span;
+        if (!nextRayInBox(s, rays, hits, next, i, span)) {
+            p.active[lane] = 0;
+            p.level[lane] = 0;
+            p.px[lane] = p.py[lane] = 0;
             return;
         }
-        p.active[lane] = 0;
-        p.level[lane] = 0;
-        p.px[lane] = p.py[lane] = 0;
+        const Ray& ray = rays[i];
+        const WalkRay r = makeWalkRay(ray, span, s, layout);
+        const WalkCursor c = startCursor(s, layout, r);
+        p.t[lane] = c.t;
+        p.exitX[lane] = c.exitX;
+        p.exitY[lane] = c.exitY;
+        p.level[lane] = c.level;
+        p.px[lane] = c.px;
+        p.py[lane] = c.py;
+        p.baseX[lane] = c.baseX;
+        p.baseY[lane] = c.baseY;
+        p.ox[lane] = r.o.x;
+        p.oy[lane] = r.o.y;
+        p.oz[lane] = r.o.z;
+        p.dz[lane] = r.d.z;
+        p.invX[lane] = r.invX;
+        p.invY[lane] = r.invY;
+        p.invZ[lane] = r.invZ;
+        p.tExit[lane] = r.tExit;
+        p.slack[lane] = r.slack;
+        p.stepX[lane] = r.stepX;
+        p.stepY[lane] = r.stepY;
+        p.exitMaskX[lane] = r.exitMaskX;
+        p.exitMaskY[lane] = r.exitMaskY;
+        p.active[lane] = -1;
+        p.steps[lane] = 0;
+        p.fetches[lane] = 0;
+        p.ray[lane] = r;
+        p.index[lane] = i;
     }
 
     // walkPyramid's loop in every active lane until the batch is done; finished lanes take new

@@ -11,6 +11,7 @@
 #include <hwy/highway.h>
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/packet_lanes-inl.h>
+#include <relief/surface/ray_feed.h>
 #include <relief/techniques/cone/cone_packet.h>
 
 #include <cmath>
@@ -48,31 +49,24 @@ struct March {
     // Puts the batch's next ray that enters the box into `lane` (as safeStepMarch starts it), or
     // parks the lane (at t = 0 on a valid texel, never done).
     void fill(Packet& p, size_t lane) {
-        while (next < rays.size()) {
-            const size_t i = next++;
-            const Ray& ray = rays[i];
-            const RayInterval span = s.clip(ray);
-            if (span.empty()) {
-                hits[i] = Hit{};
-                continue;
-            }
-            const vec3& o = ray.origin;
-            const vec3& d = ray.direction;
-            p.t[lane] = span.tEnter;
-            p.tExit[lane] = span.tExit;
-            p.horizontal[lane] = std::sqrt(d.x * d.x + d.y * d.y);
-            p.ox[lane] = o.x;
-            p.oy[lane] = o.y;
-            p.oz[lane] = o.z;
-            p.dx[lane] = d.x;
-            p.dy[lane] = d.y;
-            p.dz[lane] = d.z;
-            p.steps[lane] = p.fetches[lane] = 0;
-            p.active[lane] = -1;
-            p.index[lane] = i;
-            return;
-        }
-        park(p, lane);
+        size_t i;
+        RayInterval span;
+        if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+        const Ray& ray = rays[i];
+        const vec3& o = ray.origin;
+        const vec3& d = ray.direction;
+        p.t[lane] = span.tEnter;
+        p.tExit[lane] = span.tExit;
+        p.horizontal[lane] = std::sqrt(d.x * d.x + d.y * d.y);
+        p.ox[lane] = o.x;
+        p.oy[lane] = o.y;
+        p.oz[lane] = o.z;
+        p.dx[lane] = d.x;
+        p.dy[lane] = d.y;
+        p.dz[lane] = d.z;
+        p.steps[lane] = p.fetches[lane] = 0;
+        p.active[lane] = -1;
+        p.index[lane] = i;
     }
 
     static void park(Packet& p, size_t lane) {
