@@ -31,6 +31,8 @@ float coast(int i, int j, int w, int) {
     const float land = float(i - w / 2) + 3.0f * std::sin(0.7f * float(j));
     return land <= 0.0f ? 0.0f : std::min(1.0f, 0.08f * land + 0.1f * float((i * 7 + j * 3) % 5));
 }
+// Sea, then a one-texel cliff up to land.
+float cliff(int i, int j, int w, int) { return i < w / 2 ? 0.0f : 1.0f - 0.05f * float(j % 3); }
 float flat(int, int, int, int) { return 0.5f; }
 float spike(int i, int j, int w, int h) { return i == w / 3 && j == h / 2 ? 1.0f : 0.0f; }
 float pit(int i, int j, int w, int h) { return i == w / 2 && j == h / 3 ? 0.0f : 1.0f; }
@@ -128,6 +130,26 @@ TEST(SafetyBuild, PrunedMapsEqualReference) {
     }
     std::printf("[ safety   ] pruned = reference on %zu distance maps (%zu texel-classes)\n", maps,
                 texels);
+}
+
+// A wide sea against a cliff as high as the map is wide: where a rounding allowance for the
+// whole map (from its steepest cell) outgrew isLimiting's eps, so that no sea cell was ever
+// dismissed; with each cell's own allowance they are, and the maps must still be the reference's.
+TEST(SafetyBuild, SteepCliffBesideWideSea) {
+    const auto hf = fromFunction(320, 4, cliff);
+    for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
+        const Surface s(hf, 320.0f, edge);
+        for (const BuildOptions& o : optionSets(edge)) {
+            if (o.isotropic) continue;
+            const DistanceMap fast = buildDistanceMap(s, o);
+            const DistanceMap ref = buildDistanceMapReference(s, o);
+            ASSERT_EQ(fast.classes, ref.classes);
+            size_t differ = 0;
+            for (size_t k = 0; k < ref.r.size(); ++k) differ += fast.r[k] != ref.r[k];
+            EXPECT_EQ(differ, 0u) << toString(edge) << " phi " << o.phiMaxDeg << " ext "
+                                  << o.exterior << o.exteriorSlope;
+        }
+    }
 }
 
 // The bake's arrays, built without the map, are the arrays of the map.

@@ -317,7 +317,12 @@ public:
         m_nv = (xClass ? s.height() : s.width()) + extra;
         const Frame f{cls};
         m_levels.push_back({m_nu, m_nv, std::vector<Entry>(size_t(m_nu) * size_t(m_nv))});
-        std::vector<float> steepest(size_t(m_nu), 0.0f);
+        // isLimiting's rounding grows with the magnitude of the doubles it adds (z0 reaches back
+        // to the origin: |pa|·|a| + |pb|·|b|), so each cell's V carries its own allowance. One
+        // allowance for the whole map, from its steepest cell, outgrew the eps at 1024² with a
+        // steep coast and left flat sea to the exact test, cell by cell (the scan went r²).
+        const double span = 2.0 * (m_nu + m_nv) + 4.0;  // repeat copies reach a period further
+        m_rounding = kUlps * (1.0 + double(s.maxZ()));
         parallelRanges(m_nu, 16, [&](int64_t begin, int64_t end) {
             std::array<LocalTriangle, 2> tris;
             for (int64_t u = begin; u < end; ++u)
@@ -330,20 +335,15 @@ public:
                             const double near = std::min({t.a[0], t.a[1], t.a[2]});
                             const double centre = std::min({t.b[0], t.b[1], t.b[2]}) + 0.5;
                             const double q = t.z0 + t.pa * near + t.pb * centre;
-                            e.v = std::max(e.v, roundUp(q));
+                            const double slope = std::max(std::abs(t.pa), std::abs(t.pb));
+                            e.v = std::max(e.v, roundUp(q + m_rounding + kUlps * slope * span));
                             e.a = std::max(e.a, roundUp(-t.pa));
                             e.pmax = std::max(e.pmax, roundUp(-t.pb));
                             e.pmin = std::min(e.pmin, -roundUp(t.pb));
-                            steepest[size_t(u)] = std::max(
-                                {steepest[size_t(u)], float(std::abs(t.pa)), float(std::abs(t.pb))});
                         }
                     m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)] = e;
                 }
         });
-        // Magnitude of the doubles that isLimiting and the bounds add (z0 reaches back to the
-        // origin), for their rounding.
-        const float slope = *std::max_element(steepest.begin(), steepest.end());
-        m_rounding = 1e-15 * 8.0 * (1.0 + double(s.maxZ()) + double(slope) * (m_nu + m_nv + 4.0));
         while (m_levels.size() < size_t(kLevels) &&
                (m_levels.back().nu > 1 || m_levels.back().nv > 1)) {
             const Level& fine = m_levels.back();
@@ -427,6 +427,7 @@ private:
     static constexpr int kLevels = 9;    // blocks up to 256²
     static constexpr int kMaxReads = 16;  // per level tried
     static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
+    static constexpr double kUlps = 8e-15;  // relative rounding allowance of a few operations
 
     static float roundUp(double v) {
         const float f = float(v);
@@ -443,7 +444,8 @@ private:
         to.pmin = std::min(to.pmin, from.pmin);
     }
     // isLimiting's test points b0 − ½, b0, b0 + ½ of s_τ (plane − S is linear between them):
-    // a plane at or below S + eps/2 there (rounding included) is not above S by eps anywhere.
+    // a plane at or below S + eps/2 there (rounding included: S's terms here, the plane's in
+    // its V, the bound's own sums in harmless) is not above S by eps anywhere.
     struct Limits {
         double at[3];
     };
@@ -462,7 +464,9 @@ private:
             const double lo = d0 - kPoints[p], hi = d1 - kPoints[p];
             const double across = std::max({lo * double(e.pmin), lo * double(e.pmax),
                                             hi * double(e.pmin), hi * double(e.pmax)});
-            if (base + across > limit.at[p]) return false;
+            const double rounding =
+                kUlps * (std::abs(double(e.v)) + std::abs(base) + std::abs(across));
+            if (base + across + rounding > limit.at[p]) return false;
         }
         return true;
     }
