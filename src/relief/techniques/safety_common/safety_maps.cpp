@@ -957,9 +957,9 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
     const Frame f{cls};
     int a0, b0;
     f.texel(i, j, a0, b0);
-    auto hbar = [&](int x) {
-        return windows.query(lineOf(f, a0 + x), b0 - x - 2, 2 * x + 5, lookups);
-    };
+    const bool forward = cls == kXPlus || cls == kYPlus;
+    const int line0 = lineOf(f, a0), step = forward ? 1 : -1;  // line of a0 + x: line0 + step·x
+    auto hbar = [&](int x) { return windows.query(line0 + step * x, b0 - x - 2, 2 * x + 5, lookups); };
     const float maxZ = s.maxZ();
     ConeTexel c;
     c.r = r;
@@ -978,21 +978,20 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
         c.slope = slope == -kInfinity ? 0.0f : slope;
         return c;
     }
-    const bool forward = cls == kXPlus || cls == kYPlus;
     int nextTry = r + 1;  // after a failed skip, none until past its run (rough terrain)
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
         if (peaks && slope > -kInfinity && x >= nextTry) {
             // Skip the run x .. x2 when no sample its windows read can raise the slope (the
             // quotient is monotone in the sample, so the result is the scan's own).
-            const int line = lineOf(f, a0 + x);
+            const int line = line0 + step * x;
             const int top = std::min(peaks->levels() - 1, int(std::bit_width(unsigned(x + 4))));
             int skipTo = 0;
             for (int level = top; level >= std::max(1, top - 1) && !skipTo; --level) {
                 const int start = (line >> level) << level;
                 const int count = forward ? start + (1 << level) - line : line - start + 1;
                 const int x2 = std::min(x + count - 1, xEnd);
-                const int last = lineOf(f, a0 + x2);
+                const int last = line0 + step * x2;
                 float high;
                 if (!peaks->bound(cls < kYPlus, level, std::min(line, last), std::max(line, last),
                                   b0 - x2 - 2, b0 + x2 + 2, high))
@@ -1007,7 +1006,13 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
             }
             nextTry = x + std::max(1, (x - r) / 2);
         }
-        slope = std::max(slope, (hbar(x) - c.zc) / float(x - r));
+        // The division only where its quotient could exceed the slope: a rise below
+        // slope·(x − r) by more than 2^-22 of it gives a quotient below the slope even after
+        // rounding (≤ 2^-24), and max would keep the slope, so the result is the same.
+        const float rise = hbar(x) - c.zc;
+        const double reach = double(slope) * double(x - r);
+        if (slope == -kInfinity || double(rise) >= reach - std::abs(reach) * 0x1p-22)
+            slope = std::max(slope, rise / float(x - r));
     }
     if (slope == -kInfinity) slope = 0.0f;
     c.slope = slope;
