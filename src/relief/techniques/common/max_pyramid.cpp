@@ -68,6 +68,20 @@ MaxPyramid MaxPyramid::overTexels(const Surface& surface) {
     return pyramid;
 }
 
+MaxPyramid MaxPyramid::overCellOrigins(const Surface& surface) {
+    MaxPyramid pyramid(PyramidLayout::of(surface));
+    const Level& out = pyramid.m_levels[0];
+    const PyramidLayout& layout = pyramid.m_layout;
+    parallelRanges(layout.cellsY, 16, [&](int64_t begin, int64_t end) {
+        for (int l = int(begin); l < int(end); ++l)
+            for (int k = 0; k < layout.cellsX; ++k)
+                out.values[out.index(k, l)] =
+                    surface.sampleZ(layout.firstCell + k, layout.firstCell + l);
+    });
+    for (int level = 1; level < layout.levels; ++level) pyramid.buildCoarser(level);
+    return pyramid;
+}
+
 void MaxPyramid::buildFinest(const VertexGrid& vertices) {
     const Level& out = m_levels[0];
     parallelRanges(m_layout.cellsY, 16, [&](int64_t begin, int64_t end) {

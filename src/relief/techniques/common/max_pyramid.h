@@ -97,6 +97,10 @@ public:
     // box's top, so a node's value is the maximum of the boxes it covers (baked with the
     // parameter box-surface = 2 recorded).
     static MaxPyramid overTexels(const Surface& surface);
+    // The layout of the cell pyramid, but level 0 holds each cell's 00 corner only (the sample
+    // firstCell + k): a node's value is the highest sample the published cone maps take as a
+    // candidate in it, below the cell pyramid's by the corners the cells share with neighbours.
+    static MaxPyramid overCellOrigins(const Surface& surface);
     MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout);
     MaxPyramid(MaxPyramid&&) = default;  // level pointers stay valid: the buffer moves along
     MaxPyramid(const MaxPyramid&) = delete;
