@@ -152,6 +152,43 @@ TEST(SafetyBuild, SteepCliffBesideWideSea) {
     }
 }
 
+// Smooth ground, where the plane bound's column blocks (each cell's planes taken at the block's
+// centre row) do the dismissing and distances run long: a tilted plane (there the block bound is
+// the plane itself, S + rounding, right at isLimiting's eps) with a ridge at its far end, a
+// smooth hill and peaks6 on maps wide enough for blocks of 16 and 32 rows.
+float tiltedPlane(int i, int j, int w, int) {
+    return i > w - 4 ? 1.0f : 0.3f + 0.004f * float(j) - 0.002f * float(i);
+}
+float waves(int i, int j, int, int) {
+    return 0.5f + 0.25f * std::sin(0.21f * float(i)) * std::cos(0.17f * float(j)) + 0.002f * float(j);
+}
+float hill(int i, int j, int w, int h) {
+    const float dx = float(i - w / 3) / float(w), dy = float(j - h / 2) / float(h);
+    return 1.0f / (1.0f + 12.0f * (dx * dx + dy * dy));
+}
+
+TEST(SafetyBuild, SmoothGroundColumnBlocksEqualReference) {
+    const std::vector<Case> smooth = {
+        {"tilted plane", fromFunction(72, 40, tiltedPlane)},
+        {"hill", fromFunction(64, 48, hill)},
+        {"waves", fromFunction(70, 52, waves)},
+        {"peaks6", std::make_shared<const Heightfield>(*generateHeightfield("peaks6", 64, 64, 5))}};
+    for (const Case& c : smooth)
+        for (EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat})
+            for (float ratio : {0.05f, 0.2f}) {
+                const Surface s(c.hf, ratio * float(std::max(c.hf->width, c.hf->height)), edge);
+                for (const BuildOptions& o : optionSets(edge)) {
+                    if (o.isotropic || o.exterior) continue;  // same scan, other ray sets
+                    const DistanceMap fast = buildDistanceMap(s, o);
+                    const DistanceMap ref = buildDistanceMapReference(s, o);
+                    size_t differ = 0;
+                    for (size_t k = 0; k < ref.r.size(); ++k) differ += fast.r[k] != ref.r[k];
+                    EXPECT_EQ(differ, 0u) << c.name << " " << toString(edge) << " depth "
+                                          << ratio << " phi " << o.phiMaxDeg;
+                }
+            }
+}
+
 // The bake's arrays, built without the map, are the arrays of the map.
 TEST(SafetyBuild, ConeArraysEqualMapArrays) {
     for (const Case& c : cases()) {
