@@ -435,34 +435,41 @@ private:
     // anyCell's blocks: 1 × 2^L cells of one column (level 0: the cells, read from the square
     // pyramid), each cell's planes taken at the block's centre row: v = max over its cells of
     // V + (−p_b)·(centre of the cell − centre of the block), so that the across term is one
-    // product at the block's centre. Over a plane that bound is the plane itself; the square
+    // product at the block's centre (built level by level, so a block's v holds its children's
+    // p_b ranges, not each cell's: looser by curvature × size², not by slope × size). Over a
+    // plane that bound is the plane itself; the square
     // blocks' max V + max(−p_b)·δ over the block's rows overstated it by the slope times the
     // block's size and mixed 2^L columns, so on smooth hills and along coasts mostly single
     // cells were dismissed (peaks6 512²: 25 M leaf reads for 2.7 M cell tests).
     static double columnCentre(int level, int bv) {
         return double(bv << level) + 0.5 * double((1 << level) - 1);
     }
+    // Level 1 from the cells, each further level from the two blocks below it, each taken at
+    // its own centre: (v, p) of a child at offset s from the parent's centre bounds its cells
+    // there by v + max(p_min·s, p_max·s) (one pass over the cells in all, not one per level).
     void buildColumns() {
-        const Level& cells = m_levels[0];
         m_columns.resize(m_levels.size());
         for (size_t level = 1; level < m_levels.size(); ++level) {
+            const Level& fine = level == 1 ? m_levels[0] : m_columns[level - 1];
             Level& out = m_columns[level];
             out.nu = m_nu;
             out.nv = ((m_nv - 1) >> level) + 1;
             out.data.assign(size_t(out.nu) * size_t(out.nv), kEmpty);
+            // The children's centres lie ±2^(L−2) (cells: ±½) from the parent's.
+            const double offset = level == 1 ? 0.5 : double(1 << (level - 2));
             parallelRanges(m_nu, 16, [&](int64_t begin, int64_t end) {
                 for (int64_t u = begin; u < end; ++u)
                     for (int bv = 0; bv < out.nv; ++bv) {
-                        const double centre = columnCentre(int(level), bv);
-                        const int v1 = std::min(m_nv, (bv + 1) << level);
-                        double top = -kInfinity;
                         Entry& block = out.data[size_t(u) * size_t(out.nv) + size_t(bv)];
-                        for (int v = bv << level; v < v1; ++v) {
-                            const Entry& e = cells.data[size_t(u) * size_t(m_nv) + size_t(v)];
+                        double top = -kInfinity;
+                        for (int child = 0; child < 2; ++child) {
+                            const int cv = 2 * bv + child;
+                            if (cv >= fine.nv) break;
+                            const Entry& e = fine.data[size_t(u) * size_t(fine.nv) + size_t(cv)];
                             if (e.v == -kInfinity) continue;
-                            const double d = double(v) - centre;
-                            // A float times a half-integer below 2^9 is exact in double; the
-                            // sum is not, hence the allowance before rounding up.
+                            const double d = child == 0 ? -offset : offset;
+                            // A float times a power of two is exact; the sum is not, hence the
+                            // allowance before rounding up.
                             const double across =
                                 std::max(double(e.pmin) * d, double(e.pmax) * d);
                             top = std::max(top, double(e.v) + across +
