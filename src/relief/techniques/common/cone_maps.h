@@ -30,7 +30,9 @@
 // reach (S is continuous and piecewise planar, so S stays above such a ray: no exit to find),
 // per candidate and bounded over whole pyramid nodes; the steepest planes come from max filters
 // of the cell slopes (6 window sizes, 24 bytes per cell). Maps equal the full walks' to the bit.
-// Search: a max pyramid over the cells (common/max_pyramid.h). A node is skipped when its
+// Search: a max pyramid over the cells (common/max_pyramid.h; the published maps, whose
+// candidates are samples, one over the cells' 00 corners, MaxPyramid::overCellOrigins, and
+// distances to the node's samples). A node is skipped when its
 // maximum is ≤ a or dist(F, node) ≥ c·(max − a) (no cell in it can lower c; tested squared with
 // a 1e-5 margin so that rounding never skips the cell that sets c). Per texel: c starts at the
 // ratio of the cell that set the previous texel's c (texels go boustrophedon through a run of
@@ -42,7 +44,8 @@
 // to the bit (cone_test.cpp), not only within a tolerance. Repeat mode visits the tile copies
 // the largest possible cone can reach (copies beyond R cost one range test).
 // Cost, fbm 1024², depth 0.1·size, two threads on a quiet machine (docs/cones.md): safe 0.7 s
-// wall / 1.4 CPU-s, faithful strict 1.9 / 3.6, faithful relaxed 25 / 49; about 4.5× (safe) to
+// wall / 1.4 CPU-s, faithful strict 1.9 / 3.6, faithful relaxed 25 / 49 (2026-12-03, a 2-core
+// Intel Xeon: relaxed 50 / 100, docs/benchmarks-bakes.md); about 4.5× (safe) to
 // 12.5× (relaxed) per doubling of the side, since cone radii in texels grow with the depth.
 // Memory: the max pyramid (≈ 4/3 floats per cell) plus the map; relaxed: 24 bytes per cell more.
 //
