@@ -435,12 +435,12 @@ private:
     // anyCell's blocks: 1 × 2^L cells of one column (level 0: the cells, read from the square
     // pyramid), each cell's planes taken at the block's centre row: v = max over its cells of
     // V + (−p_b)·(centre of the cell − centre of the block), so that the across term is one
-    // product at the block's centre (built level by level, so a block's v holds its children's
-    // p_b ranges, not each cell's: looser by curvature × size², not by slope × size). Over a
-    // plane that bound is the plane itself; the square
-    // blocks' max V + max(−p_b)·δ over the block's rows overstated it by the slope times the
-    // block's size and mixed 2^L columns, so on smooth hills and along coasts mostly single
-    // cells were dismissed (peaks6 512²: 25 M leaf reads for 2.7 M cell tests).
+    // product at the block's centre. Built level by level, a block's v holds its children's p_b
+    // ranges, not each cell's: looser by curvature × size², not by slope × size. Over a plane
+    // the bound is the plane itself; the square blocks' max V + max(−p_b)·δ over the block's
+    // rows overstated it by the slope times the block's size and mixed 2^L columns, so on
+    // smooth hills and along coasts mostly single cells were dismissed (peaks6 512²: 25 M leaf
+    // reads for 2.7 M cell tests).
     static double columnCentre(int level, int bv) {
         return double(bv << level) + 0.5 * double((1 << level) - 1);
     }
