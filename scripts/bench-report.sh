@@ -26,8 +26,9 @@ build/relief bench --preset embree-user --repeats 3 --no-images --out-dir docs/b
     sed -n '/^## Embree user geometry/,/^## /{/^## /d;p}' docs/benchmarks-embree-user.md
     echo "## Other measurements"
     echo
-    echo "- [exact vs Embree in detail](benchmarks-exact-embree.md) (`relief bench --preset exact-embree`, quiet and shared machines)"
+    echo "- [exact vs Embree in detail](benchmarks-exact-embree.md) (\`relief bench --preset exact-embree\`, quiet and shared machines)"
     echo "- [GL backend on an NVIDIA H100](benchmarks-gpu.md) (\`relief bench --preset gpu\`)"
+    echo "- [map bake timings](benchmarks-bakes.md) (\`scripts/bake-table.sh\`: every builder × map × size, wall seconds and peak RSS)"
     echo "- Per-technique studies: [quadtree](quadtree.md), [cones](cones.md), [qdm](qdm.md), [safety shapes](safety.md), [curves](curves.md)"
 } >> docs/benchmarks.md
 # Issue 21's CPU rows against Embree, primary and shadow rays; its section goes before "Other measurements".
