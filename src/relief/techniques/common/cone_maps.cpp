@@ -406,8 +406,8 @@ private:
     // and needs to travel at most c(D − a) / (1 + c·that) − (nearest distance) past its sample
     // before its ratio reaches c; when that slope beats the steepest plane within the node grown
     // by that travel, and no box face is that close, no walk in n can find an exit below c.
+    // Needs m_slopes (the caller tries it only then).
     bool relaxedNodeProvenEmpty(const Apex& apex, ivec2 first, const Node& n, float c) const {
-        if (!m_slopes) return false;
         const int x0 = n.x << n.level, x1 = std::min((n.x + 1) << n.level, m_layout.cellsX);
         const int y0 = n.y << n.level, y1 = std::min((n.y + 1) << n.level, m_layout.cellsY);
         // The node's samples (each cell's 00 corner), relative to the apex.

@@ -57,21 +57,16 @@ MaxPyramid::MaxPyramid(const VertexGrid& vertices, const PyramidLayout& layout)
 }
 
 MaxPyramid MaxPyramid::overTexels(const Surface& surface) {
-    MaxPyramid pyramid(PyramidLayout::ofTexels(surface));
-    const Level& out = pyramid.m_levels[0];
-    parallelRanges(surface.height(), 16, [&](int64_t begin, int64_t end) {
-        for (int j = int(begin); j < int(end); ++j)
-            for (int i = 0; i < surface.width(); ++i)
-                out.values[out.index(i, j)] = surface.sampleZ(i, j);
-    });
-    for (int level = 1; level < pyramid.m_layout.levels; ++level) pyramid.buildCoarser(level);
-    return pyramid;
+    return overSamples(surface, PyramidLayout::ofTexels(surface));
 }
 
 MaxPyramid MaxPyramid::overCellOrigins(const Surface& surface) {
-    MaxPyramid pyramid(PyramidLayout::of(surface));
+    return overSamples(surface, PyramidLayout::of(surface));
+}
+
+MaxPyramid MaxPyramid::overSamples(const Surface& surface, const PyramidLayout& layout) {
+    MaxPyramid pyramid(layout);
     const Level& out = pyramid.m_levels[0];
-    const PyramidLayout& layout = pyramid.m_layout;
     parallelRanges(layout.cellsY, 16, [&](int64_t begin, int64_t end) {
         for (int l = int(begin); l < int(end); ++l)
             for (int k = 0; k < layout.cellsX; ++k)

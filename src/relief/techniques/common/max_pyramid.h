@@ -134,6 +134,8 @@ public:
 
 private:
     explicit MaxPyramid(const PyramidLayout& layout);  // levels allocated, not built
+    // Level 0 index (k, l) = the sample (firstCell + k, firstCell + l) (overTexels, overCellOrigins).
+    static MaxPyramid overSamples(const Surface& surface, const PyramidLayout& layout);
     using Index = TiledIndex<2>;  // 4×4 floats per tile
     struct Level {
         float* values;

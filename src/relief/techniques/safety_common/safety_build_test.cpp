@@ -155,7 +155,7 @@ TEST(SafetyBuild, SteepCliffBesideWideSea) {
 // Smooth ground, where the plane bound's column blocks (each cell's planes taken at the block's
 // centre row) do the dismissing and distances run long: a tilted plane (there the block bound is
 // the plane itself, S + rounding, right at isLimiting's eps) with a ridge at its far end, a
-// smooth hill and peaks6 on maps wide enough for blocks of 16 and 32 rows.
+// smooth hill, gentle waves and peaks6 on maps wide enough for blocks of 16 and 32 rows.
 float tiltedPlane(int i, int j, int w, int) {
     return i > w - 4 ? 1.0f : 0.3f + 0.004f * float(j) - 0.002f * float(i);
 }
