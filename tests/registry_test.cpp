@@ -85,6 +85,52 @@ TEST(RegistryTest, ParamListParsing) {
 namespace relief {
 namespace {
 
+// One bake's rows share what they both build (safety-sd's distances are safety-cc's radii): the
+// maps are those each row bakes alone, the reuse is reported, and rows baked with different
+// options (or the sampled precomputation) build their own.
+TEST(RegistryTest, SharedBuildsGiveTheMapsOfSeparateOnes) {
+    auto hf = std::make_shared<const Heightfield>(*generateHeightfield("peaks6", 48, 40, 3));
+    auto surface = std::make_shared<const Surface>(hf, 9.0f, EdgeMode::Clamp);
+    const TechniqueInfo& sd = *findTechnique("safety-sd");
+    const TechniqueInfo& cc = *findTechnique("safety-cc");
+    using Overrides = std::vector<std::pair<std::string, double>>;
+    auto alone = [&](const TechniqueInfo& row, const Overrides& o) {
+        auto maps = bakeMaps(row, surface, o);
+        EXPECT_TRUE(maps) << maps.error().message;
+        return *maps;
+    };
+    auto expectSame = [](const TechniqueMaps& a, const TechniqueMaps& b) {
+        ASSERT_EQ(a.arrays.size(), b.arrays.size());
+        for (size_t k = 0; k < a.arrays.size(); ++k) EXPECT_EQ(a.arrays[k].data, b.arrays[k].data);
+        EXPECT_EQ(a.parameters, b.parameters);
+    };
+    for (const bool ccFirst : {false, true}) {
+        SCOPED_TRACE(ccFirst ? "safety-cc first" : "safety-sd first");
+        BuildShare share;
+        const TechniqueInfo& first = ccFirst ? cc : sd;
+        const TechniqueInfo& second = ccFirst ? sd : cc;
+        auto a = bakeMaps(first, surface, {}, &share);
+        ASSERT_TRUE(a) << a.error().message;
+        EXPECT_TRUE(share.takeNotes().empty());
+        auto b = bakeMaps(second, surface, {}, &share);
+        ASSERT_TRUE(b) << b.error().message;
+        EXPECT_EQ(share.takeNotes(),
+                  std::vector<std::string>{"safety distances from " + std::string(first.name)});
+        expectSame(*a, alone(first, {}));
+        expectSame(*b, alone(second, {}));
+    }
+    for (const Overrides& other : {Overrides{{"phi-max", -45}}, Overrides{{"isotropic", 1}},
+                                   Overrides{{"precompute", 1}}, Overrides{{"exterior", 1}}}) {
+        SCOPED_TRACE(other.front().first);
+        BuildShare share;
+        ASSERT_TRUE(bakeMaps(sd, surface, {}, &share));
+        auto b = bakeMaps(cc, surface, other, &share);
+        ASSERT_TRUE(b) << b.error().message;
+        EXPECT_TRUE(share.takeNotes().empty());
+        expectSame(*b, alone(cc, other));
+    }
+}
+
 // Maps record how they were built: a tracer given them takes bits (and the other build options)
 // from the file unless the caller sets them, refuses a caller's value the file contradicts, and
 // refuses a recorded value out of range (a tampered file) with the file named.

@@ -122,12 +122,15 @@ void runBake(const BakeOptions& o) {
     // Options and parameters a technique lacks are only an error if no technique has them.
     const std::vector<Overrides> overrides = orFail(parameterOverrides(infos, o.technique));
     std::vector<double> seconds;
+    std::vector<std::vector<std::string>> reused;  // per row: what it took from earlier rows
+    BuildShare share;                               // e.g. safety-sd's distances for safety-cc
     for (size_t k = 0; k < infos.size(); ++k) {
         // Parameters the maps do not record are refused before anything is printed.
         const auto start = std::chrono::steady_clock::now();
-        file.techniques.push_back(orFail(bakeMaps(*infos[k], surface, overrides[k])));
+        file.techniques.push_back(orFail(bakeMaps(*infos[k], surface, overrides[k], &share)));
         seconds.push_back(
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        reused.push_back(share.takeNotes());
     }
     // What the format cannot hold is refused before the report, like the parameters above.
     const std::vector<MapStorage> storages = storagesFor(infos, file, format, o.output);
@@ -136,13 +139,16 @@ void runBake(const BakeOptions& o) {
     for (size_t k = 0; k < infos.size(); ++k) {
         size_t bytes = 0;
         for (const MapArray& a : file.techniques[k].arrays) bytes += a.data.size() * sizeof(float);
+        std::string notes;
+        for (const std::string& note : reused[k]) notes += (notes.empty() ? ", reusing " : ", ") + note;
         if (!Progress::quiet())
-            report << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}\n", infos[k]->name,
+            report << fmt::format("{}: {} arrays, {:.2f} bytes per texel{}{}\n", infos[k]->name,
                                  file.techniques[k].arrays.size(),
                                  double(bytes) / double(hf->sampleCount()),
                                  o.deterministic ? ""
                                                  : fmt::format(", built in {:.3f} s on {} threads",
-                                                               seconds[k], ThreadLimit::current()));
+                                                               seconds[k], ThreadLimit::current()),
+                                 notes);
     }
     orFail(writeMapFile(o.output, file, format, storages));
     if (!Progress::quiet()) report << "wrote " << o.output << "\n";

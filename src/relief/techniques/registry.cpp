@@ -1164,7 +1164,8 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
 }
 
 Result<TechniqueMaps> bakeMaps(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
-                               const std::vector<std::pair<std::string, double>>& overrides) {
+                               const std::vector<std::pair<std::string, double>>& overrides,
+                               BuildShare* share) {
     if (!info.buildMaps) {
         std::string known;
         for (const TechniqueInfo& row : techniques())
@@ -1175,7 +1176,7 @@ Result<TechniqueMaps> bakeMaps(const TechniqueInfo& info, std::shared_ptr<const 
     }
     auto params = resolveParams(info, overrides);
     if (!params) return params.error();
-    TechniqueInput input{std::move(surface), std::move(*params), nullptr};
+    TechniqueInput input{std::move(surface), std::move(*params), nullptr, share};
     if (Status s = reserveMapMemory(info, *input.surface); !s) return s.error();
     auto maps = info.buildMaps(input);
     if (!maps) return maps.error();

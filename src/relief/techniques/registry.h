@@ -37,9 +37,11 @@ Result<TechniqueInput> techniqueInput(const TechniqueInfo& info,
 
 // One row's maps as `relief bake` writes them: parameters resolved, the memory budget checked,
 // the maps built. A row without maps, and a parameter the maps do not record (the tracer reads
-// it), are refused.
+// it), are refused. `share` (one per surface) lets the rows of one bake reuse each other's
+// intermediate products (BuildShare).
 Result<TechniqueMaps> bakeMaps(const TechniqueInfo& info, std::shared_ptr<const Surface> surface,
-                               const std::vector<std::pair<std::string, double>>& overrides);
+                               const std::vector<std::pair<std::string, double>>& overrides,
+                               BuildShare* share = nullptr);
 
 // The one way to a CPU tracer (CLI, viewer, bench, tests): looks the technique up, resolves its
 // parameters and creates its tracer (the map file, if any, must outlive it).

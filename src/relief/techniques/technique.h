@@ -7,6 +7,7 @@
 #include <relief/core/math.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
+#include <relief/techniques/build_share.h>
 
 #include <map>
 #include <memory>
@@ -304,6 +305,8 @@ struct TechniqueInput {
     // Baked maps for this technique (`--maps FILE`), already checked against the surface's
     // heightfield; null means "build them now".
     const TechniqueMaps* maps = nullptr;
+    // Products of other rows' builds in the same bake of this surface; null: nothing shared.
+    BuildShare* share = nullptr;
 };
 
 struct TechniqueInfo {

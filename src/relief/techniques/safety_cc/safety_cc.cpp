@@ -39,9 +39,10 @@ Result<TechniqueMaps> buildSafetyCcMaps(const TechniqueInput& input) {
     if (Status ok = safety::checkBuildOptions(*input.surface, build); !ok) return ok.error();
     if (Status ok = safety::checkSampledPrecompute(input.params, nullptr); !ok) return ok.error();
     const bool sampled = safety::sampledPrecompute(input.params);
-    // Straight into the arrays (the map and its arrays are never held together).
+    // Straight into the arrays (the map and its arrays are never held together); the radii
+    // are safety-sd's distances, shared when the same bake builds both.
     TechniqueMaps maps = safety::buildConeArrays(
-        kName, *input.surface, safety::buildDistanceMapFor(*input.surface, build, sampled), build);
+        kName, *input.surface, *safety::sharedDistanceMap(input, build, sampled, kName), build);
     safety::recordPrecompute(maps, sampled);
     return maps;
 }

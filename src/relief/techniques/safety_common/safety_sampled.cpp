@@ -129,6 +129,19 @@ DistanceMap buildDistanceMapFor(const Surface& surface, const BuildOptions& opti
     return sampled ? buildSampledDistanceMap(surface, options) : buildDistanceMap(surface, options);
 }
 
+std::shared_ptr<const DistanceMap> sharedDistanceMap(const TechniqueInput& input,
+                                                     const BuildOptions& options, bool sampled,
+                                                     const std::string& row) {
+    auto build = [&] { return buildDistanceMapFor(*input.surface, options, sampled); };
+    if (!input.share) return std::make_shared<const DistanceMap>(build());
+    // Everything the distances depend on besides the surface (one share per surface).
+    const std::string key = fmt::format("safety-distances phi-max={} isotropic={} max-distance={} "
+                                        "exterior={} sampled={}",
+                                        options.phiMaxDeg, options.isotropic, options.maxDistance,
+                                        options.exterior, sampled);
+    return input.share->get<DistanceMap>(key, "safety distances", row, build);
+}
+
 Status checkSampledPrecompute(const ParamValues& params, const TechniqueMaps* maps) {
     const bool sampled = sampledPrecompute(params);
     if (sampled && params.getInt("exterior") != 0)

@@ -27,6 +27,11 @@ DistanceMap buildSampledDistanceMap(const Surface& surface, const BuildOptions& 
 bool sampledPrecompute(const ParamValues& params);
 // The safety distances `precompute` asks for: exact (buildDistanceMap) or sampled.
 DistanceMap buildDistanceMapFor(const Surface& surface, const BuildOptions& options, bool sampled);
+// The same from input.share when another row of this bake built them with the same options (or
+// built now and left there for the next): safety-sd's map is safety-cc's radii.
+std::shared_ptr<const DistanceMap> sharedDistanceMap(const TechniqueInput& input,
+                                                     const BuildOptions& options, bool sampled,
+                                                     const std::string& row);
 // What `precompute=1` cannot serve: exterior maps, and baked maps whose own precomputation
 // (the "precompute" parameter they record; none = exact) differs from the request.
 Status checkSampledPrecompute(const ParamValues& params, const TechniqueMaps* maps);

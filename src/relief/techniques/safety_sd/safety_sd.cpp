@@ -33,7 +33,7 @@ Result<TechniqueMaps> buildSafetySdMaps(const TechniqueInput& input) {
     if (Status ok = safety::checkSampledPrecompute(input.params, nullptr); !ok) return ok.error();
     const bool sampled = safety::sampledPrecompute(input.params);
     TechniqueMaps maps = safety::distanceMapToArrays(
-        kName, safety::buildDistanceMapFor(*input.surface, build, sampled), build);
+        kName, *safety::sharedDistanceMap(input, build, sampled, kName), build);
     safety::recordPrecompute(maps, sampled);
     return maps;
 }
