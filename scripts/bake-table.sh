@@ -6,7 +6,8 @@
 #          [--maps "fbm peaks6 sea srtm colorado finland"] [--timeout SECONDS] [--relief PATH]
 # A run past the timeout is written as "> T". `sea`: a window of data/earth-topology-2048x1024.png
 # (flat sea, 63-73 % of the texels, and coasts); `srtm`: a window of
-# ../shared/data/earth-srtm-5400x2700.png (the Mediterranean, with bathymetry: no flat sea);
+# ../shared/data/earth-srtm-5400x2700.png (the Mediterranean, with bathymetry: no flat sea; above
+# 2700², of earth-srtm-10800x5400.png);
 # Colorado and Finland are the DEMs in data/ at their own size (400²), whatever --sizes says.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -31,22 +32,31 @@ while [[ $# -gt 0 ]]; do
 done
 [[ -x "$relief" ]] || { echo "bake-table: no relief binary at $relief" >&2; exit 2; }
 srtm="$root/../shared/data/earth-srtm-5400x2700.png"
+srtm_large="$root/../shared/data/earth-srtm-10800x5400.png"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
-# The heightfield argument for a map name and size (empty: that map has no such size).
+# The heightfield argument for a map name and size (empty: that map has no such size; the sea
+# crop's source is 1024 rows high).
 source_of() {
     local name=$1 n=$2
     case "$name" in
         fbm|peaks6) echo "gen:$name:${n}x$n" ;;
         # Flat sea (one value) and coasts: ~2/3 of the texels at sea level, centred on the Atlantic.
-        sea) echo "$root/data/earth-topology-2048x1024.png@centre=768,512,$n,$n" ;;
-        # Centred on the Tyrrhenian sea (12.5°E, 40°N at 15 px per degree): sea, coast, the Alps.
-        srtm) [[ -f "$srtm" ]] && echo "$srtm@centre=2888,750,$n,$n" ;;
+        sea) (( n <= 1024 )) && echo "$root/data/earth-topology-2048x1024.png@centre=768,512,$n,$n" ;;
+        # Centred on the Tyrrhenian sea (12.5°E, 40°N at 15 px per degree): sea, coast, the Alps;
+        # moved south as far as a window of n rows needs, and past 2700 rows from the 10800×5400
+        # map (30 px per degree, the same place).
+        srtm) if (( n <= 2700 )); then
+                  [[ -f "$srtm" ]] && echo "$srtm@centre=2888,$(( n / 2 > 750 ? n / 2 : 750 )),$n,$n"
+              elif (( n <= 5400 )); then
+                  [[ -f "$srtm_large" ]] && echo "$srtm_large@centre=5776,$(( n / 2 > 1500 ? n / 2 : 1500 )),$n,$n"
+              fi ;;
         colorado) [[ $n == "${sizes%% *}" ]] && echo "$root/data/colorado-elevation-400.png" ;;
         finland) [[ $n == "${sizes%% *}" ]] && echo "$root/data/finland-topography-400-16bit.png" ;;
         *) echo "bake-table: unknown map '$name'" >&2; exit 1 ;;
     esac
+    return 0  # a map without this size prints nothing (a false test above is not a failure)
 }
 
 echo "Machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), $(nproc) hardware threads; $threads threads; $(date -u +%Y-%m-%d); load before: $(cut -d' ' -f1-3 /proc/loadavg)"
