@@ -346,7 +346,16 @@ private:
         int level, x, y;
         float distance2;  // from the apex footprint
         float max;        // of S over the node
+        // The lowest ratio a cell of the node can give, squared: distance² / (max − a)² (+∞
+        // when max ≤ a). Nodes are visited lowest bound first, so that c falls early and
+        // fewer candidates reach the relaxed search's walk; c is a minimum over all of them, so
+        // the order changes no result.
+        float order;
     };
+    static Node makeNode(int level, int x, int y, float distance2, float max, float a) {
+        const float rise = max - a;
+        return {level, x, y, distance2, max, rise > 0.0f ? distance2 / (rise * rise) : kInfinity};
+    }
 
     float ratioOf(const Apex& apex, ivec2 cell, float c) const {
         return leafRatio(m_s, m_slopes.get(), m_kind, apex, cell.x, cell.y, c);
@@ -452,24 +461,25 @@ private:
             for (int x = 2 * n.x; x < x1; ++x) {
                 const float m = m_pyramid.at(level, x, y);
                 if (m <= apex.a) continue;
-                const Node kid{level, x, y, distance2(apex.foot, origin, level, x, y), m};
+                const Node kid = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
+                                          m, apex.a);
                 if (mayLower(kid.distance2, m, apex.a, c)) visit(kid);
             }
     }
 
-    // The children that may lower c, farthest pushed first so that the nearest is visited first.
+    // The children that may lower c, highest bound pushed first (the lowest is visited first).
     void pushChildren(const Apex& apex, vec2 origin, const Node& n, float c, Node* stack,
                       int& top) const {
         Node* kids = stack + top;
         int count = 0;
         forEachChild(apex, origin, n, c,
-                     [&](const Node& kid) { insertByDistance(kid, kids, count); });
+                     [&](const Node& kid) { insertByBound(kid, kids, count); });
         top += count;
     }
 
     // Where the descent starts: no cell farther than R = c·(max S − a) from F can lower c, so
     // instead of the root, the (at most 4×4) nodes of the finest level with 2^level ≥ R that
-    // meet F grown by R, farthest pushed first (R taken with a generous margin against
+    // meet F grown by R, highest bound pushed first (R taken with a generous margin against
     // rounding). Returns the stack size.
     int pushStart(const Apex& apex, vec2 origin, float c, Node* stack) const {
         const float maxS = m_pyramid.at(m_layout.topLevel(), 0, 0);
@@ -488,16 +498,17 @@ private:
         int top = 0;
         for (int y = ys.x; y <= ys.y; ++y)
             for (int x = xs.x; x <= xs.y; ++x)
-                insertByDistance({level, x, y, distance2(apex.foot, origin, level, x, y),
-                                  m_pyramid.at(level, x, y)},
-                                 stack, top);
+                insertByBound(makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
+                                       m_pyramid.at(level, x, y), apex.a),
+                              stack, top);
         return top;
     }
 
-    // Inserts n into stack[0, top) kept farthest first (the nearest is popped first).
-    static void insertByDistance(const Node& n, Node* stack, int& top) {
+    // Inserts n into stack[0, top) kept highest bound first (the lowest is popped first; ties:
+    // the one inserted first).
+    static void insertByBound(const Node& n, Node* stack, int& top) {
         int k = top++;
-        for (; k > 0 && stack[k - 1].distance2 < n.distance2; --k) stack[k] = stack[k - 1];
+        for (; k > 0 && stack[k - 1].order < n.order; --k) stack[k] = stack[k - 1];
         stack[k] = n;
     }
 
