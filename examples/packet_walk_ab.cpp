@@ -1,10 +1,11 @@
-// The rows' packet paths (quadtree, maxmip, exact, cone: PacketTracer) against their scalar paths,
-// side by side in one process on the same primary rays (docs/benchmarks-packets.md): per row,
-// map and elevation, the two traced in turn (A B A B ...), each pass through traceAll (256-ray
-// batches in parallel), the ratio taken pair by pair, and every hit compared bit for bit.
+// The rows' packet paths (quadtree, maxmip, exact, cone, safety-cc: PacketTracer) against their
+// scalar paths, side by side in one process on the same primary rays
+// (docs/benchmarks-packets.md): per row, map and elevation, the two traced in turn (A B A B ...),
+// each pass through traceAll (256-ray batches in parallel), the ratio taken pair by pair, and
+// every hit compared bit for bit.
 //
 //   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
-//                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact,cone] SOURCE...
+//                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact,cone,safety-cc] SOURCE...
 //   --isa: limit the packet paths' dispatch to that target (default: the best this CPU has)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
 #include <relief/core/parallel.h>
@@ -80,7 +81,7 @@ int main(int argc, char** argv) {
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
                              "[--edge clamp|repeat] [--isa avx3|avx2|sse4] "
-                             "[--rows quadtree,maxmip,exact,cone] SOURCE...\n", argv[0]);
+                             "[--rows quadtree,maxmip,exact,cone,safety-cc] SOURCE...\n", argv[0]);
         return 2;
     }
     const ThreadLimit limit(threads);

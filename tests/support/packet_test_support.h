@@ -1,7 +1,7 @@
 #pragma once
-// Test support for the SIMD packet paths (quadtree, maxmip, exact, cone) and the ISA dispatch:
-// hits compared bit for bit, a check run once per Highway target this machine has, and the maps
-// and coherent rays (camera, shadow) every packet test traces.
+// Test support for the SIMD packet paths (quadtree, maxmip, exact, cone, safety-cc) and the ISA
+// dispatch: hits compared bit for bit, a check run once per Highway target this machine has, and
+// the maps and coherent rays (camera, shadow) every packet test traces.
 #include <gtest/gtest.h>
 #include <hwy/targets.h>
 #include <relief/core/check.h>
@@ -10,6 +10,7 @@
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
+#include <relief/techniques/technique.h>
 #include <support/walk_test_support.h>
 
 #include <bit>
@@ -81,6 +82,21 @@ inline void compareBatches(const TraceSpan& packets, const TraceOne& scalar,
     }
 }
 
+// A registry row's packet path against its scalar path (PacketTracer::scalarPath, ray by ray).
+inline void compareRowPaths(const Tracer& tracer, const std::vector<Ray>& rays,
+                            const std::string& what, Counts& counts) {
+    const auto* packets = dynamic_cast<const PacketTracer*>(&tracer);
+    ASSERT_NE(packets, nullptr) << what;
+    compareBatches(
+        [&](std::span<const Ray> batch, std::span<Hit> hits) { packets->traceBatch(batch, hits); },
+        [&](const Ray& ray) {
+            Hit hit;
+            packets->scalarPath().traceBatch({&ray, 1}, {&hit, 1});
+            return hit;
+        },
+        rays, what, counts);
+}
+
 inline std::shared_ptr<const Surface> surfaceOf(Heightfield hf, float depthRatio, EdgeMode edge) {
     const float depth = depthRatio * float(std::max(hf.width, hf.height));
     return std::make_shared<const Surface>(std::make_shared<const Heightfield>(std::move(hf)),
@@ -123,6 +139,22 @@ inline std::vector<Ray> shadowRays(const std::vector<Ray>& primary, const TraceO
         if (hit.hit) shadow.push_back(Ray{hit.position + vec3(0.0f, 0.0f, 1e-3f), toLight});
     }
     return shadow;
+}
+
+// Over one of coherentRayMaps: the camera rays at 15.3°, 40.2° and 65.1°, the shadow rays from
+// their `exact` hits, and 300 rays of each random family (walk_test::RayMaker).
+inline std::vector<Ray> viewAndRandomRays(const Surface& surface, const TraceOne& exact) {
+    std::vector<Ray> rays;
+    for (float elevation : {15.3f, 40.2f, 65.1f}) {
+        const std::vector<Ray> primary = cameraRays(surface, elevation);
+        const std::vector<Ray> shadow = shadowRays(primary, exact);
+        rays.insert(rays.end(), primary.begin(), primary.end());
+        rays.insert(rays.end(), shadow.begin(), shadow.end());
+    }
+    walk_test::RayMaker maker(surface, 77);
+    const std::vector<Ray> random = maker.all(300);
+    rays.insert(rays.end(), random.begin(), random.end());
+    return rays;
 }
 
 }  // namespace relief::packet_test

@@ -15,6 +15,7 @@
 namespace relief {
 namespace {
 
+using packet_test::compareRowPaths;
 using packet_test::Counts;
 using packet_test::forEachTarget;
 using Overrides = std::vector<std::pair<std::string, double>>;
@@ -24,21 +25,6 @@ std::unique_ptr<Tracer> coneTracer(const std::shared_ptr<const Surface>& surface
     auto tracer = createTracer("cone", surface, overrides);
     RELIEF_CHECK(tracer.ok());
     return std::move(*tracer);
-}
-
-// The row's packet path against its scalar path (ConeTracer::trace ray by ray).
-void compare(const Tracer& tracer, const std::vector<Ray>& rays, const std::string& what,
-             Counts& counts) {
-    const auto* packets = dynamic_cast<const PacketTracer*>(&tracer);
-    ASSERT_NE(packets, nullptr) << what;
-    packet_test::compareBatches(
-        [&](std::span<const Ray> batch, std::span<Hit> hits) { packets->traceBatch(batch, hits); },
-        [&](const Ray& ray) {
-            Hit hit;
-            packets->scalarPath().traceBatch({&ray, 1}, {&hit, 1});
-            return hit;
-        },
-        rays, what, counts);
 }
 
 const Overrides kCases[] = {{}, {{"variant", 1}}, {{"max-steps", 6}}, {{"bits", 8}}};
@@ -59,8 +45,8 @@ TEST(ConePackets, IdenticalToScalarOnAdversarialMapsAndRays) {
             walk_test::RayMaker maker(*surface, seed++);
             const std::vector<Ray> rays = maker.all(100);
             for (const Overrides& overrides : kCases)
-                compare(*coneTracer(surface, overrides), rays,
-                        walk_test::describe(m) + " " + describe(overrides), counts);
+                compareRowPaths(*coneTracer(surface, overrides), rays,
+                                walk_test::describe(m) + " " + describe(overrides), counts);
         }
         std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
                     counts.rays, counts.hits, counts.differences);
@@ -76,23 +62,15 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
         for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
             const auto exact = createTracer("exact", surface);
             ASSERT_TRUE(exact.ok());
-            std::vector<Ray> rays;
-            for (float elevation : {15.3f, 40.2f, 65.1f}) {
-                const std::vector<Ray> primary = packet_test::cameraRays(*surface, elevation);
-                const std::vector<Ray> shadow = packet_test::shadowRays(primary, [&](const Ray& ray) {
+            const std::vector<Ray> rays =
+                packet_test::viewAndRandomRays(*surface, [&](const Ray& ray) {
                     Hit hit;
                     (*exact)->traceBatch({&ray, 1}, {&hit, 1});
                     return hit;
                 });
-                rays.insert(rays.end(), primary.begin(), primary.end());
-                rays.insert(rays.end(), shadow.begin(), shadow.end());
-            }
-            walk_test::RayMaker maker(*surface, 77);
-            const std::vector<Ray> random = maker.all(300);
-            rays.insert(rays.end(), random.begin(), random.end());
             for (const Overrides& overrides : {Overrides{}, Overrides{{"variant", 1}}})
-                compare(*coneTracer(surface, overrides), rays, name + " " + describe(overrides),
-                        counts);
+                compareRowPaths(*coneTracer(surface, overrides), rays,
+                                name + " " + describe(overrides), counts);
         }
         std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
                     counts.rays, counts.hits, counts.differences);

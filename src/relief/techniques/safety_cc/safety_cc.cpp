@@ -1,5 +1,6 @@
 #include <relief/techniques/safety_cc/safety_cc.h>
 
+#include <relief/techniques/safety_cc/safety_cc_packet.h>
 #include <relief/techniques/safety_common/safety_sampled.h>
 
 namespace relief {
@@ -12,6 +13,10 @@ constexpr const char* kName = "safety-cc";
 safety::CylinderConeMap buildCone(const Surface& surface, const safety::BuildOptions& build,
                                   bool sampled) {
     return safety::buildConeMap(surface, safety::buildDistanceMapFor(surface, build, sampled), build);
+}
+
+void tracePackets(const SafetyCcTracer& tracer, std::span<const Ray> rays, std::span<Hit> hits) {
+    safetyCcMarchPackets(tracer, rays, hits);
 }
 
 }  // namespace
@@ -31,6 +36,9 @@ Result<SafetyCcTracer> makeSafetyCcTracer(const TechniqueInput& input) {
 Result<std::unique_ptr<Tracer>> createSafetyCc(const TechniqueInput& input) {
     auto tracer = makeSafetyCcTracer(input);
     if (!tracer) return tracer.error();
+    if (packetSafetyCcSupports(*tracer) && packetsEnabled())
+        return std::unique_ptr<Tracer>(
+            new PacketBatchTracer<SafetyCcTracer, tracePackets>(std::move(*tracer)));
     return makeBatchTracer(std::move(*tracer));
 }
 

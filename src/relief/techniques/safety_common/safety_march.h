@@ -111,13 +111,6 @@ public:
 
     Hit trace(const Ray& ray) const;
 
-    // Rays traced by the exact walk because they are outside φ_max or (exterior maps) start
-    // inside the box.
-    uint64_t fallbacks() const { return m_fallbacks->load(std::memory_order_relaxed); }
-    const Shape& shape() const { return m_shape; }
-    const MarchOptions& options() const { return m_options; }
-
-private:
     // One ray's march along the centerlines of its class's axis A (B is the other axis);
     // coordinates are sample coordinates (texel − ½).
     struct Walk {
@@ -129,7 +122,23 @@ private:
             return std::clamp(t, tEnter, tExit);
         }
     };
+    // The march's setup for a ray that enters the box (span = clip(ray)): false where the march
+    // hands the ray to the exact walk over the span (outside φ_max or, exterior maps, an interior
+    // origin: counted in fallbacks(); near-vertical rays). Shared with the packet march
+    // (safety_cc/safety_cc_packet.h).
+    bool setUp(const Ray& ray, const RayInterval& span, Walk& w) const;
 
+    const Surface& surface() const { return *m_surface; }
+    // How far above S a test position must be to count as above (float error).
+    float margin() const { return m_margin; }
+
+    // Rays traced by the exact walk because they are outside φ_max or (exterior maps) start
+    // inside the box.
+    uint64_t fallbacks() const { return m_fallbacks->load(std::memory_order_relaxed); }
+    const Shape& shape() const { return m_shape; }
+    const MarchOptions& options() const { return m_options; }
+
+private:
     bool cellsHit(const Ray& ray, float ta, float tb, bool toExit, Hit& hit) const {
         return relief::cellsHit(*m_surface, ray, ta, tb, toExit, hit);  // surface/cell_walk.h
     }
@@ -221,18 +230,14 @@ bool SafetyTracer<Shape>::linearHit(const Walk& w, int lo, int hi, Hit& hit) con
 }
 
 template <class Shape>
-Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
-    Hit hit;
-    const RayInterval span = m_surface->clip(ray);
-    if (span.empty()) return hit;
+bool SafetyTracer<Shape>::setUp(const Ray& ray, const RayInterval& span, Walk& w) const {
     const vec3& o = ray.origin;
     const vec3& d = ray.direction;
-    if ((!m_options.phiOutside && !rayWithinPhiMax(d, m_tanPhi)) || (m_options.exterior && !originIsExterior(*m_surface, o))) {
+    if ((!m_options.phiOutside && !rayWithinPhiMax(d, m_tanPhi)) ||
+        (m_options.exterior && !originIsExterior(*m_surface, o))) {
         m_fallbacks->fetch_add(1, std::memory_order_relaxed);
-        cellsHit(ray, span.tEnter, span.tExit, true, hit);
-        return hit;
+        return false;
     }
-    Walk w;
     w.ray = &ray;
     w.axis = std::abs(d.x) >= std::abs(d.y) ? 0 : 1;
     const float dA = w.axis == 0 ? d.x : d.y;
@@ -252,7 +257,16 @@ Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
         const int kL = int(w.sign > 0 ? std::floor(aExit) : std::ceil(aExit));
         w.count = (kL - w.k0) * w.sign;
     }
-    if (flat || w.count < kMinCenterlines) {  // near-vertical: a handful of cells
+    return !flat && w.count >= kMinCenterlines;  // near-vertical: a handful of cells
+}
+
+template <class Shape>
+Hit SafetyTracer<Shape>::trace(const Ray& ray) const {
+    Hit hit;
+    const RayInterval span = m_surface->clip(ray);
+    if (span.empty()) return hit;
+    Walk w;
+    if (!setUp(ray, span, w)) {
         cellsHit(ray, span.tEnter, span.tExit, true, hit);
         return hit;
     }

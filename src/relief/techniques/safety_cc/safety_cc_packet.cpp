@@ -1,0 +1,495 @@
+// The packet cylinder-cone march (safety_cc_packet.h): compiled once per Highway target
+// (foreach_target.h re-includes this file), with -ffp-contract=off (CMakeLists.txt) so that no
+// target fuses a multiply and an add the scalar march keeps apart.
+#ifndef HWY_DISABLED_TARGETS
+#define HWY_DISABLED_TARGETS (HWY_SSSE3 | HWY_AVX3_DL)
+#endif
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "relief/techniques/safety_cc/safety_cc_packet.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+
+#include <hwy/highway.h>
+#include <relief/surface/cell_test-inl.h>
+#include <relief/surface/cell_walk.h>
+#include <relief/surface/packet_lanes-inl.h>
+#include <relief/surface/ray_feed.h>
+#include <relief/techniques/safety_cc/safety_cc_packet.h>
+
+#include <cstdint>
+#include <limits>
+
+HWY_BEFORE_NAMESPACE();
+namespace relief {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+namespace safety_cc_march {
+
+using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
+using Walk = SafetyCcTracer::Walk;
+
+// What a lane does in the next pass.
+enum Phase : int32_t { kCells = 0, kJump = 1, kBisect = 2 };
+
+// The lanes' state, structure of arrays: every pass loads what it needs and stores what changed
+// (the state is too large for the registers of AVX2).
+struct Packet {
+    // The ray, and cellsHit's per-ray constants.
+    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    alignas(64) float invX[kLanes], invY[kLanes], exitX[kLanes], exitY[kLanes];
+    alignas(64) int32_t stepX[kLanes], stepY[kLanes];
+    // The march (Walk), and where its class's map and the heights lie along A and B.
+    alignas(64) float oA[kLanes], oB[kLanes], dB[kLanes], invA[kLanes], rise[kLanes];
+    alignas(64) float tEnter[kLanes], tExit[kLanes];
+    alignas(64) int32_t k0[kLanes], sign[kLanes], count[kLanes], lenA[kLanes], lenB[kLanes];
+    alignas(64) int32_t texelBase[kLanes], texelA[kLanes], texelB[kLanes];
+    alignas(64) int32_t heightA[kLanes], heightB[kLanes];
+    // Where the lane is: a cell walk over [ta, tb] in cell (ci, cj), then the march from
+    // centerline `resume` (or, toExit, the end of the ray); a jump from n; a bisection of
+    // (lo, hi).
+    alignas(64) int32_t phase[kLanes], n[kLanes], lo[kLanes], hi[kLanes];
+    alignas(64) float ta[kLanes], tb[kLanes];
+    alignas(64) int32_t ci[kLanes], cj[kLanes], resume[kLanes], toExit[kLanes];
+    alignas(64) int32_t steps[kLanes], fetches[kLanes], active[kLanes];
+    // Written for the scalar part: a cell that may hold the hit, a walk to the exit that ended.
+    alignas(64) int32_t candidate[kLanes], exitEnds[kLanes], pastEnd[kLanes];
+    alignas(64) int32_t cellI[kLanes], cellJ[kLanes];
+    alignas(64) float cellTa[kLanes], cellTc[kLanes];
+    Walk walk[kLanes];
+    size_t index[kLanes];
+};
+
+struct March {
+    const SafetyCcTracer& tracer;
+    const Surface& s;
+    const float* heights;      // paddedHeights()
+    const float* texels;       // ConeTexel as 4 floats: z0, s_c, r (int32), z_c
+    const int32_t* radii;      // texels' r, at the same indices
+    bool positiveDistance;
+    std::span<const Ray> rays;
+    std::span<Hit> hits;
+    size_t next = 0;
+
+    // A cell walk (cellsHit) over [ta, tb], then the march from `resume` or the end of the ray.
+    void beginCells(Packet& p, size_t k, float ta, float tb, int resume, bool toExit) const {
+        p.phase[k] = kCells;
+        p.ta[k] = ta;
+        p.tb[k] = tb;
+        p.ci[k] = s.cellOfX(p.ox[k] + ta * p.dx[k]);  // ray.at(ta)
+        p.cj[k] = s.cellOfY(p.oy[k] + ta * p.dy[k]);
+        p.resume[k] = resume;
+        p.toExit[k] = toExit ? -1 : 0;
+    }
+
+    // Puts the batch's next ray that the march follows into `lane` (as trace starts it), or parks
+    // the lane; the rays it hands to the exact walk are traced here, as trace does.
+    void fill(Packet& p, size_t lane) {
+        for (;;) {
+            size_t i;
+            RayInterval span;
+            if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+            const Ray& ray = rays[i];
+            Walk& w = p.walk[lane];
+            if (!tracer.setUp(ray, span, w)) {
+                Hit hit;
+                cellsHit(s, ray, span.tEnter, span.tExit, true, hit);
+                hits[i] = hit;
+                continue;
+            }
+            const vec3& o = ray.origin;
+            const vec3& d = ray.direction;
+            p.ox[lane] = o.x;
+            p.oy[lane] = o.y;
+            p.oz[lane] = o.z;
+            p.dx[lane] = d.x;
+            p.dy[lane] = d.y;
+            p.dz[lane] = d.z;
+            p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
+            p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
+            p.invX[lane] = 1.0f / d.x;
+            p.invY[lane] = 1.0f / d.y;
+            p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
+            p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+            p.oA[lane] = w.oA;
+            p.oB[lane] = w.oB;
+            p.dB[lane] = w.dB;
+            p.invA[lane] = w.invA;
+            p.rise[lane] = w.rise;
+            p.tEnter[lane] = w.tEnter;
+            p.tExit[lane] = w.tExit;
+            p.k0[lane] = w.k0;
+            p.sign[lane] = w.sign;
+            p.count[lane] = w.count;
+            const int width = s.width(), height = s.height();
+            const auto& map = tracer.shape().map();
+            const int cls = map.classes == 1 ? 0 : w.cls;
+            p.lenA[lane] = w.axis == 0 ? width : height;
+            p.lenB[lane] = w.axis == 0 ? height : width;
+            // map.at(cls, i, j) and sampleZ(i, j), with (i, j) = (a, b) on axis 0, (b, a) on 1
+            p.texelBase[lane] = cls * height * width;
+            p.texelA[lane] = w.axis == 0 ? 1 : width;
+            p.texelB[lane] = w.axis == 0 ? width : 1;
+            p.heightA[lane] = w.axis == 0 ? 1 : width + 2;
+            p.heightB[lane] = w.axis == 0 ? width + 2 : 1;
+            p.n[lane] = p.lo[lane] = p.hi[lane] = 0;
+            p.steps[lane] = p.fetches[lane] = 0;
+            p.active[lane] = -1;
+            p.index[lane] = i;
+            beginCells(p, lane, span.tEnter, w.tOf(0), 0, false);  // up to the first centerline
+            return;
+        }
+    }
+
+    // An idle lane: every index it gathers from stays in its array.
+    static void park(Packet& p, size_t lane) {
+        p.active[lane] = 0;
+        p.phase[lane] = kCells;
+        p.ox[lane] = p.oy[lane] = p.oz[lane] = p.dx[lane] = p.dy[lane] = p.dz[lane] = 0.0f;
+        p.invX[lane] = p.invY[lane] = p.exitX[lane] = p.exitY[lane] = 0.0f;
+        p.stepX[lane] = p.stepY[lane] = 0;
+        p.oA[lane] = p.oB[lane] = p.dB[lane] = p.invA[lane] = p.rise[lane] = 0.0f;
+        p.tEnter[lane] = p.tExit[lane] = p.ta[lane] = p.tb[lane] = 0.0f;
+        p.k0[lane] = p.count[lane] = p.n[lane] = p.lo[lane] = p.hi[lane] = 0;
+        p.sign[lane] = 1;
+        p.lenA[lane] = p.lenB[lane] = 1;
+        p.texelBase[lane] = p.texelA[lane] = p.texelB[lane] = 0;
+        p.heightA[lane] = p.heightB[lane] = 0;
+        p.ci[lane] = p.cj[lane] = -1;
+        p.resume[lane] = p.toExit[lane] = 0;
+        p.steps[lane] = p.fetches[lane] = 0;
+    }
+
+    // The march's passes in every active lane until the batch is done.
+    void run(Packet& p) {
+        const DF df;
+        const DI di;
+        const size_t lanes = hn::Lanes(df);
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), twoI = hn::Set(di, 2),
+                 fourI = hn::Set(di, 4), minusOne = hn::Set(di, -1);
+        const VF zero = hn::Zero(df), half = hn::Set(df, 0.5f), inf = hn::Set(df, kInfinity);
+        const VF margin = hn::Set(df, tracer.margin());
+        const VF farStep = hn::Set(df, float(safety::kFarStep));
+        const VI farStepI = hn::Set(di, safety::kFarStep);
+        const VI stride = hn::Set(di, s.width() + 2);
+        const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
+        const MI none = hn::MaskFromVec(zeroI);
+
+        // Walk::tOf(n) across lanes.
+        const auto tOf = [&](VI nV) {
+            const VF a = hn::ConvertTo(
+                df, hn::Add(hn::Load(di, p.k0), hn::Mul(hn::Load(di, p.sign), nV)));
+            const VF t = hn::Mul(hn::Sub(a, hn::Load(df, p.oA)), hn::Load(df, p.invA));
+            const VF lo = hn::Load(df, p.tEnter), hi = hn::Load(df, p.tExit);
+            return hn::IfThenElse(hn::Lt(t, lo), lo, hn::IfThenElse(hn::Lt(hi, t), hi, t));
+        };
+
+        for (;;) {
+            const MI act = hn::MaskFromVec(hn::Load(di, p.active));
+            const VI phase = hn::Load(di, p.phase);
+            const MI walking = hn::And(act, hn::Eq(phase, hn::Set(di, kCells)));
+            const MI jumping = hn::And(act, hn::Eq(phase, hn::Set(di, kJump)));
+            const MI bisecting = hn::And(act, hn::Eq(phase, hn::Set(di, kBisect)));
+            VI steps = hn::Load(di, p.steps), fetches = hn::Load(di, p.fetches);
+            // Lanes that begin a cell walk at the end of this pass, and its span and sequel.
+            MI begins = none;
+            VF beginTa = zero, beginTb = zero;
+            VI beginResume = zeroI, beginToExit = zeroI;
+            MI events = none;
+
+            if (!hn::AllFalse(di, walking)) {
+                // One cell of cellsHit: its exits, from its index each time.
+                const VF ox = hn::Load(df, p.ox), oy = hn::Load(df, p.oy);
+                const VF ta = hn::Load(df, p.ta), tb = hn::Load(df, p.tb);
+                const VI ci = hn::Load(di, p.ci), cj = hn::Load(di, p.cj);
+                const VI stepX = hn::Load(di, p.stepX), stepY = hn::Load(di, p.stepY);
+                const VF fci = hn::ConvertTo(df, ci), fcj = hn::ConvertTo(df, cj);
+                const VF tx = hn::IfThenElse(
+                    hn::RebindMask(df, hn::Eq(stepX, zeroI)), inf,
+                    hn::Mul(hn::Sub(hn::Add(fci, hn::Load(df, p.exitX)), ox), hn::Load(df, p.invX)));
+                const VF ty = hn::IfThenElse(
+                    hn::RebindMask(df, hn::Eq(stepY, zeroI)), inf,
+                    hn::Mul(hn::Sub(hn::Add(fcj, hn::Load(df, p.exitY)), oy), hn::Load(df, p.invY)));
+                // std::max(ta, std::min({tx, ty, tb}))
+                VF m = tx;
+                m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
+                m = hn::IfThenElse(hn::Lt(tb, m), tb, m);
+                const VF tc = hn::IfThenElse(hn::Lt(ta, m), m, ta);
+                steps = hn::Add(steps, hn::IfThenElseZero(walking, oneI));
+                fetches = hn::Add(fetches, hn::IfThenElseZero(walking, fourI));
+
+                const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
+                const MF misses = cell_test::SegmentMissesCell(
+                    df, heights, offset, stride, fci, fcj,
+                    {ox, oy, hn::Load(df, p.oz), hn::Load(df, p.dx), hn::Load(df, p.dy),
+                     hn::Load(df, p.dz)},
+                    ta, tc);
+                // A miss gives t = ∞, still a hit when tc = ∞: the scalar test decides there too.
+                const MI candidate =
+                    hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(tc, inf))), walking);
+                const MI pastEnd = hn::And(walking, hn::RebindMask(di, hn::Ge(tc, tb)));
+                // The next cell (tx <= ty: across x), and whether it leaves the cells.
+                const MI alongX = hn::RebindMask(di, hn::Le(tx, ty));
+                const VI ciNext = hn::Add(ci, hn::IfThenElseZero(alongX, stepX));
+                const VI cjNext = hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY));
+                const MI leaves = hn::Or(hn::Or(hn::Lt(ciNext, minusOne), hn::Gt(ciNext, lastX)),
+                                         hn::Or(hn::Lt(cjNext, minusOne), hn::Gt(cjNext, lastY)));
+                const MI ends = hn::Or(pastEnd, hn::And(walking, leaves));
+                const MI goesOn = hn::AndNot(ends, walking);
+                hn::Store(hn::IfThenElse(hn::RebindMask(df, goesOn), tc, ta), df, p.ta);
+                hn::Store(hn::IfThenElse(goesOn, ciNext, ci), di, p.ci);
+                hn::Store(hn::IfThenElse(goesOn, cjNext, cj), di, p.cj);
+
+                // A walk that ends without a hit: the march goes on from `resume`, or (no
+                // centerline left) walks to the exit; a walk to the exit ends the ray.
+                const MI toExit = hn::MaskFromVec(hn::Load(di, p.toExit));
+                const MI exitEnds = hn::And(ends, toExit);
+                const MI resumes = hn::AndNot(toExit, ends);
+                const VI resume = hn::Load(di, p.resume), count = hn::Load(di, p.count);
+                const MI lastOne = hn::And(resumes, hn::Not(hn::Lt(resume, count)));
+                hn::Store(hn::IfThenElse(resumes, resume, hn::Load(di, p.n)), di, p.n);
+                hn::Store(hn::IfThenElse(hn::AndNot(lastOne, resumes), hn::Set(di, kJump), phase),
+                          di, p.phase);
+                begins = lastOne;
+                beginTa = tOf(count);
+                beginTb = hn::Load(df, p.tExit);
+                beginToExit = hn::VecFromMask(di, lastOne);
+
+                events = hn::Or(candidate, exitEnds);
+                if (!hn::AllFalse(di, events)) {
+                    hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
+                    hn::Store(hn::VecFromMask(di, exitEnds), di, p.exitEnds);
+                    hn::Store(hn::VecFromMask(di, pastEnd), di, p.pastEnd);
+                    hn::Store(ci, di, p.cellI);
+                    hn::Store(cj, di, p.cellJ);
+                    hn::Store(ta, df, p.cellTa);
+                    hn::Store(tc, df, p.cellTc);
+                }
+            }
+
+            const MI probing0 = hn::Or(jumping, bisecting);
+            if (!hn::AllFalse(di, probing0)) {
+                const VI nV = hn::Load(di, p.n), count = hn::Load(di, p.count);
+                const VI loV = hn::Load(di, p.lo), hiV = hn::Load(di, p.hi);
+                const VI k0 = hn::Load(di, p.k0), sign = hn::Load(di, p.sign);
+                const VI lenA = hn::Load(di, p.lenA), lenB = hn::Load(di, p.lenB);
+                const VF oB = hn::Load(df, p.oB), dB = hn::Load(df, p.dB);
+                const VF oz = hn::Load(df, p.oz), dz = hn::Load(df, p.dz);
+                MI jumps = none;
+                VI m = nV;
+                if (!hn::AllFalse(di, jumping)) {
+                    // fetchStep: the map's texel nearest the position on centerline n.
+                    const VF t = tOf(nV);
+                    const VI a = hn::Min(hn::Max(hn::Add(k0, hn::Mul(sign, nV)), zeroI),
+                                         hn::Sub(lenA, oneI));
+                    const VI b = hn::Min(
+                        hn::Max(hn::ConvertTo(di, hn::Floor(hn::Add(hn::Add(oB, hn::Mul(t, dB)),
+                                                                    half))),
+                                zeroI),
+                        hn::Sub(lenB, oneI));
+                    fetches = hn::Add(fetches, hn::IfThenElseZero(jumping, oneI));
+                    const VF z = hn::Add(oz, hn::Mul(t, dz));
+                    const VI texel = hn::ShiftLeft<2>(
+                        hn::Add(hn::Load(di, p.texelBase),
+                                hn::Add(hn::Mul(a, hn::Load(di, p.texelA)),
+                                        hn::Mul(b, hn::Load(di, p.texelB)))));
+                    const VF z0 = hn::GatherIndex(df, texels, texel);
+                    const VF slope = hn::GatherIndex(df, texels, hn::Add(texel, oneI));
+                    const VI r = hn::GatherIndex(di, radii, texel);
+                    // ConeShape::step
+                    const VF above = hn::Sub(z, z0);
+                    const VF closing = hn::Sub(slope, hn::Load(df, p.rise));
+                    VF q = hn::Div(above, closing);
+                    q = hn::IfThenElse(hn::Lt(farStep, q), farStep, q);
+                    VI step = hn::IfThenElse(
+                        hn::RebindMask(di, hn::Le(above, zero)), r,
+                        hn::IfThenElse(hn::RebindMask(di, hn::Le(closing, zero)), farStepI,
+                                       hn::Max(r, hn::ConvertTo(di, q))));
+                    if (positiveDistance) step = hn::Max(step, oneI);
+                    // i = 0: the naive step, the cells up to the next centerline.
+                    const MI naive = hn::And(jumping, hn::Eq(step, zeroI));
+                    begins = hn::Or(begins, naive);
+                    beginTa = hn::IfThenElse(hn::RebindMask(df, naive), t, beginTa);
+                    beginTb = hn::IfThenElse(hn::RebindMask(df, naive), tOf(hn::Add(nV, oneI)),
+                                             beginTb);
+                    beginResume = hn::IfThenElse(naive, hn::Add(nV, oneI), beginResume);
+                    jumps = hn::AndNot(naive, jumping);
+                    m = hn::Min(hn::Add(nV, step), count);
+                    steps = hn::Add(steps, hn::IfThenElseZero(jumps, oneI));
+                }
+                steps = hn::Add(steps, hn::IfThenElseZero(bisecting, oneI));
+                const VI mid = hn::Add(loV, hn::ShiftRight<1>(hn::Sub(hiV, loV)));
+                const VI target = hn::IfThenElse(jumps, m, mid);
+                const MI probing = hn::Or(jumps, bisecting);
+                fetches = hn::Add(fetches, hn::IfThenElseZero(probing, twoI));
+
+                // aboveAt(target): the ray's height above S there (linear between two samples).
+                const VF t = tOf(target);
+                const VF bF = hn::Add(oB, hn::Mul(t, dB));
+                const VF fb = hn::Floor(bF);
+                const VI ib = hn::ConvertTo(di, fb);
+                const VI a = hn::Min(hn::Max(hn::Add(k0, hn::Mul(sign, target)), minusOne), lenA);
+                const VI ib0 = hn::Min(hn::Max(ib, minusOne), lenB);
+                const VI ib1 = hn::Min(hn::Max(hn::Add(ib, oneI), minusOne), lenB);
+                const VI rowA = hn::Mul(hn::Add(a, oneI), hn::Load(di, p.heightA));
+                const VI heightB = hn::Load(di, p.heightB);
+                const VF s0 = hn::GatherIndex(df, heights,
+                                              hn::Add(rowA, hn::Mul(hn::Add(ib0, oneI), heightB)));
+                const VF s1 = hn::GatherIndex(df, heights,
+                                              hn::Add(rowA, hn::Mul(hn::Add(ib1, oneI), heightB)));
+                const VF aboveS = hn::Sub(hn::Add(oz, hn::Mul(t, dz)),
+                                          hn::Add(s0, hn::Mul(hn::Sub(bF, fb), hn::Sub(s1, s0))));
+                const MI up = hn::RebindMask(di, hn::Gt(aboveS, margin));
+
+                // A jump that lands above S moves on (past the last centerline: the walk to the
+                // exit); one below brackets the crossing; the bisection halves it down to two
+                // adjacent centerlines, whose cells the final walk tests.
+                const MI jumpUp = hn::And(jumps, up);
+                const MI toEnd = hn::And(jumpUp, hn::Not(hn::Lt(m, count)));
+                const VI newLo = hn::IfThenElse(jumps, nV, hn::IfThenElse(up, mid, loV));
+                const VI newHi = hn::IfThenElse(jumps, m, hn::IfThenElse(up, hiV, mid));
+                const MI bracket = hn::Or(hn::AndNot(up, jumps), bisecting);
+                const MI narrowed = hn::And(bracket, hn::Lt(hn::Sub(newHi, newLo), twoI));
+                hn::Store(hn::IfThenElse(jumpUp, m, nV), di, p.n);
+                hn::Store(hn::IfThenElse(bracket, newLo, loV), di, p.lo);
+                hn::Store(hn::IfThenElse(bracket, newHi, hiV), di, p.hi);
+                hn::Store(hn::IfThenElse(hn::AndNot(narrowed, bracket), hn::Set(di, kBisect),
+                                         hn::Load(di, p.phase)),
+                          di, p.phase);
+                begins = hn::Or(begins, hn::Or(toEnd, narrowed));
+                beginTa = hn::IfThenElse(hn::RebindMask(df, toEnd), tOf(count), beginTa);
+                beginTb = hn::IfThenElse(hn::RebindMask(df, toEnd), hn::Load(df, p.tExit), beginTb);
+                beginToExit = hn::IfThenElse(toEnd, minusOne, beginToExit);
+                beginTa = hn::IfThenElse(hn::RebindMask(df, narrowed), tOf(newLo), beginTa);
+                beginTb = hn::IfThenElse(hn::RebindMask(df, narrowed), tOf(newHi), beginTb);
+                beginResume = hn::IfThenElse(narrowed, newHi, beginResume);
+            }
+
+            if (!hn::AllFalse(di, begins)) {
+                // beginCells across lanes: the cell of ray.at(ta).
+                const VI ci = hn::Min(
+                    hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(
+                                                  hn::Add(hn::Load(df, p.ox),
+                                                          hn::Mul(beginTa, hn::Load(df, p.dx))),
+                                                  half))),
+                            minusOne),
+                    lastX);
+                const VI cj = hn::Min(
+                    hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(
+                                                  hn::Add(hn::Load(df, p.oy),
+                                                          hn::Mul(beginTa, hn::Load(df, p.dy))),
+                                                  half))),
+                            minusOne),
+                    lastY);
+                const MF beginsF = hn::RebindMask(df, begins);
+                hn::Store(hn::IfThenElse(begins, hn::Set(di, kCells), hn::Load(di, p.phase)), di,
+                          p.phase);
+                hn::Store(hn::IfThenElse(beginsF, beginTa, hn::Load(df, p.ta)), df, p.ta);
+                hn::Store(hn::IfThenElse(beginsF, beginTb, hn::Load(df, p.tb)), df, p.tb);
+                hn::Store(hn::IfThenElse(begins, ci, hn::Load(di, p.ci)), di, p.ci);
+                hn::Store(hn::IfThenElse(begins, cj, hn::Load(di, p.cj)), di, p.cj);
+                hn::Store(hn::IfThenElse(begins, beginResume, hn::Load(di, p.resume)), di,
+                          p.resume);
+                hn::Store(hn::IfThenElse(begins, beginToExit, hn::Load(di, p.toExit)), di,
+                          p.toExit);
+            }
+            hn::Store(steps, di, p.steps);
+            hn::Store(fetches, di, p.fetches);
+            if (hn::AllFalse(di, events)) continue;
+
+            // Lanes whose cell may hold the hit (the root, scalar) or whose ray ends here.
+            bool any = false;
+            for (size_t k = 0; k < lanes; ++k) {
+                if (p.active[k] != 0 && (p.candidate[k] || p.exitEnds[k])) {
+                    const size_t i = p.index[k];
+                    const Ray& ray = rays[i];
+                    Hit hit;
+                    hit.steps = p.steps[k];
+                    hit.fetches = p.fetches[k];
+                    bool finished = false;
+                    if (p.candidate[k]) {
+                        const float tc = p.cellTc[k];
+                        const float th = firstHitInCell(s.cellPlanes(p.cellI[k], p.cellJ[k]), ray,
+                                                        p.cellI[k], p.cellJ[k], p.cellTa[k], tc);
+                        if (th <= tc) {
+                            setHit(ray, th, hit);
+                            finished = true;
+                        }
+                    }
+                    if (!finished && p.exitEnds[k]) {
+                        // cellsHit's rule at the box exit (toExit)
+                        if (p.pastEnd[k] && exitsThroughFloor(s, ray, p.tb[k]))
+                            setHit(ray, p.tb[k], hit);
+                        finished = true;
+                    }
+                    if (finished) {
+                        hits[i] = hit;
+                        fill(p, k);
+                    }
+                }
+                any = any || p.active[k] != 0;
+            }
+            // The flags are per pass.
+            hn::Store(zeroI, di, p.candidate);
+            hn::Store(zeroI, di, p.exitEnds);
+            if (!any) return;
+        }
+    }
+};
+
+}  // namespace safety_cc_march
+
+void SafetyCcMarchPackets(const SafetyCcTracer& tracer, std::span<const Ray> rays,
+                          std::span<Hit> hits) {
+    using namespace safety_cc_march;
+    const Surface& surface = tracer.surface();
+    const auto& texels = tracer.shape().map().texels;
+    March march{tracer,
+                surface,
+                surface.paddedHeights().data(),
+                &texels.data()->z0,
+                &texels.data()->r,
+                tracer.options().positiveDistance,
+                rays,
+                hits};
+    Packet p{};
+    bool any = false;
+    for (size_t k = 0; k < kLanes; ++k) {
+        March::park(p, k);
+        if (k < hn::Lanes(DF())) march.fill(p, k);
+        any = any || p.active[k] != 0;
+    }
+    if (any) march.run(p);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace relief
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace relief {
+
+HWY_EXPORT(SafetyCcMarchPackets);
+
+// The gathers index ConeTexel's fields as 4-byte words.
+static_assert(sizeof(safety::ConeTexel) == 4 * sizeof(float) &&
+              offsetof(safety::ConeTexel, z0) == 0 && offsetof(safety::ConeTexel, slope) == 4 &&
+              offsetof(safety::ConeTexel, r) == 8);
+
+bool packetSafetyCcSupports(const SafetyCcTracer& tracer) {
+    const Surface& surface = tracer.surface();
+    const safety::MarchOptions& options = tracer.options();
+    const auto& map = tracer.shape().map();
+    const size_t limit = size_t(std::numeric_limits<int32_t>::max());
+    return surface.edge() == EdgeMode::Clamp && options.maxSteps == 0 &&
+           !options.viewDependent && map.width == surface.width() &&
+           map.height == surface.height() && 4 * map.texels.size() + 4 < limit &&
+           surface.paddedHeights().size() + 2 * size_t(surface.width()) + 8 < limit;
+}
+
+void safetyCcMarchPackets(const SafetyCcTracer& tracer, std::span<const Ray> rays,
+                          std::span<Hit> hits) {
+    HWY_DYNAMIC_DISPATCH(SafetyCcMarchPackets)(tracer, rays, hits);
+}
+
+}  // namespace relief
+#endif  // HWY_ONCE
