@@ -13,7 +13,7 @@
 #include <relief/surface/cell_walk.h>
 #include <relief/surface/cell_walk_packet.h>
 #include <relief/surface/packet_lanes-inl.h>
-#include <relief/surface/ray_feed.h>
+#include <relief/surface/ray_feed-inl.h>
 
 #include <cstdint>
 #include <limits>
@@ -46,14 +46,14 @@ struct Walk {
     const float* heights;  // paddedHeights()
     std::span<const Ray> rays;
     std::span<Hit> hits;
-    size_t next = 0;
+    ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
 
     // Puts the batch's next ray that enters the box into `lane` (as cellsHit starts it), or parks
     // the lane.
     void fill(Packet& p, size_t lane) {
         size_t i;
         RayInterval span;
-        if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+        if (!feed.next(i, span)) return park(p, lane);
         const Ray& ray = rays[i];
         const vec3& o = ray.origin;
         const vec3& d = ray.direction;

@@ -12,7 +12,7 @@
 
 #include <hwy/highway.h>
 #include <relief/surface/packet_lanes-inl.h>
-#include <relief/surface/ray_feed.h>
+#include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 
@@ -48,14 +48,14 @@ struct Walk {
     alignas(64) int32_t levelOffset[PyramidLayout::kMaxLevels + kLanes];
     std::span<const Ray> rays;
     std::span<Hit> hits;
-    size_t next = 0;
+    ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
 
     // Puts the batch's next ray that needs a walk into `lane` (as walkPyramid starts it), or
     // parks the lane (a valid level-0 node, so that its gathers stay in the pyramid).
     void fill(Packet& p, size_t lane) {
         size_t i;
         RayInterval span;
-        if (!nextRayInBox(s, rays, hits, next, i, span)) {
+        if (!feed.next(i, span)) {
             p.active[lane] = 0;
             p.level[lane] = 0;
             p.px[lane] = p.py[lane] = 0;

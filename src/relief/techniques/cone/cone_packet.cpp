@@ -11,7 +11,7 @@
 #include <hwy/highway.h>
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/packet_lanes-inl.h>
-#include <relief/surface/ray_feed.h>
+#include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/cone/cone_packet.h>
 
 #include <cmath>
@@ -44,14 +44,14 @@ struct March {
     ConeLimits limits;
     std::span<const Ray> rays;
     std::span<Hit> hits;
-    size_t next = 0;
+    ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
 
     // Puts the batch's next ray that enters the box into `lane` (as safeStepMarch starts it), or
     // parks the lane (at t = 0 on a valid texel, never done).
     void fill(Packet& p, size_t lane) {
         size_t i;
         RayInterval span;
-        if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+        if (!feed.next(i, span)) return park(p, lane);
         const Ray& ray = rays[i];
         const vec3& o = ray.origin;
         const vec3& d = ray.direction;

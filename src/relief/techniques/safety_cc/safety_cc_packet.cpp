@@ -12,7 +12,7 @@
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/cell_walk.h>
 #include <relief/surface/packet_lanes-inl.h>
-#include <relief/surface/ray_feed.h>
+#include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/safety_cc/safety_cc_packet.h>
 
 #include <cstdint>
@@ -68,7 +68,7 @@ struct March {
     bool positiveDistance;
     std::span<const Ray> rays;
     std::span<Hit> hits;
-    size_t next = 0;
+    ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
 
     // A cell walk (cellsHit) over [ta, tb], then the march from `resume` or the end of the ray.
     void beginCells(Packet& p, size_t k, float ta, float tb, int resume, bool toExit) const {
@@ -87,7 +87,7 @@ struct March {
         for (;;) {
             size_t i;
             RayInterval span;
-            if (!nextRayInBox(s, rays, hits, next, i, span)) return park(p, lane);
+            if (!feed.next(i, span)) return park(p, lane);
             const Ray& ray = rays[i];
             Walk& w = p.walk[lane];
             if (!tracer.setUp(ray, span, w)) {
