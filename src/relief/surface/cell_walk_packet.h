@@ -8,8 +8,9 @@
 // Vectorized: the cell's exits (tx, ty, tc), its four corners (gathers from the padded heights),
 //   both triangle planes and the four sign tests that decide whether the segment meets S in the
 //   cell, the step to the next cell and the clamp-mode exit.
-// Per lane, scalar: the setup (clip, first cell), the hit itself once the signs say the cell holds
-//   one (firstHitInCell, its root in double, one cell per ray), and the floor rule at the exit.
+// Per lane, scalar: the setup (first cell; the clip is SIMD, ray_feed-inl.h), the hit itself
+//   once the signs say the cell holds one (firstHitInCell, its root in double, one cell per
+//   ray), and the floor rule at the exit.
 // Cost: one vector iteration per cell for 16 (8, 4) rays; the scalar walk's unpredictable
 //   branch (which face the ray leaves through) becomes a select.
 #include <relief/surface/surface.h>

@@ -7,8 +7,9 @@
 //   walkPyramid<Ascent::Parent> (quadtree's default) and <Ascent::Ancestor> (maxmip's).
 //   min/max/clamp are written as the selects std::min/max/clamp are (NaN and ±0 alike).
 // Vectorized: node max gathers, the bound (enterBelow), descent, exits, index steps, ascent.
-// Per lane, scalar: the ray setup (clip, makeWalkRay, startCursor), the level-0 two-triangle
-//   cell test (leafHit) and the end of a ray (makeHit, the floor exit rule).
+// Per lane, scalar: the ray setup (makeWalkRay, startCursor; the clip is SIMD,
+//   surface/ray_feed-inl.h), the level-0 two-triangle cell test (leafHit) and the end of a ray
+//   (makeHit, the floor exit rule).
 // Scope: no iteration cap, S (not boxes), a pyramid over cells; the rows' other parameters keep
 //   the scalar walk. Targets: AVX-512, AVX2, SSE4, a portable fallback, picked at run time.
 // Cost: per ray the scalar setup, cell tests and end stay; the node steps cost one vector

@@ -7,8 +7,9 @@
 //   for bit; the iteration cap included.
 // Vectorized: the position, the map fetch (a gather of a and c), the cone step, the cell the ray is
 //   in and its exit (cellAt), the cell's corners, planes and sign tests (surface/cell_test-inl.h).
-// Per lane, scalar: the setup (clip, |d.xy|), the root once the signs say the cell holds the hit
-//   (firstHitInCell, in double), the floor rule at the box exit, the capped end.
+// Per lane, scalar: the setup (|d.xy|; the clip is SIMD, surface/ray_feed-inl.h), the root
+//   once the signs say the cell holds the hit (firstHitInCell, in double), the floor rule at the
+//   box exit, the capped end.
 // Scope: clamp mode (repeat wraps texel indices by a modulo the scalar code takes in int; the row
 //   keeps the scalar march there).
 #include <relief/techniques/cone/cone.h>

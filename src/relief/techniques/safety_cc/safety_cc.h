@@ -15,6 +15,9 @@
 //   one orientation in memory at a time, 4 bytes × levels × texels), stopped as soon as no
 //   later abscissa can raise s_c (the highest sample bounds them all). Times: docs/safety.md.
 // Steps/fetches: as safety-sd (one map read = one texel's r, z0, s_c).
+// Batches (clamp mode, no cap, view-dependent=0) go through the SIMD packet march
+//   (safety_cc_packet.h), the same hits bit for bit, unless the ISA is baseline or
+//   RELIEF_PACKETS=0.
 // Departures: the step is i = max(r, ⌊max(p_z − z0, 0)/(s_c − s_d)⌋) with ⌊⌋ where the paper
 //   writes ⌈⌉: the ceiling lands up to one centerline below the slanted plane, where a thin
 //   ridge inside that last column can be crossed twice and missed; s_c − s_d ≤ 0 (a ray rising

@@ -159,8 +159,8 @@ struct March {
         p.steps[lane] = p.fetches[lane] = 0;
     }
 
-    // The march's passes in every active lane until the batch is done.
-    void run(Packet& p) {
+    // One pass of the march in every active lane; false once no lane has a ray left.
+    bool pass(Packet& p) {
         const DF df;
         const DI di;
         const size_t lanes = hn::Lanes(df);
@@ -183,7 +183,7 @@ struct March {
             return hn::IfThenElse(hn::Lt(t, lo), lo, hn::IfThenElse(hn::Lt(hi, t), hi, t));
         };
 
-        for (;;) {
+        {
             const MI act = hn::MaskFromVec(hn::Load(di, p.active));
             const VI phase = hn::Load(di, p.phase);
             const MI walking = hn::And(act, hn::Eq(phase, hn::Set(di, kCells)));
@@ -394,7 +394,7 @@ struct March {
             }
             hn::Store(steps, di, p.steps);
             hn::Store(fetches, di, p.fetches);
-            if (hn::AllFalse(di, events)) continue;
+            if (hn::AllFalse(di, events)) return true;
 
             // Lanes whose cell may hold the hit (the root, scalar) or whose ray ends here.
             bool any = false;
@@ -431,7 +431,7 @@ struct March {
             // The flags are per pass.
             hn::Store(zeroI, di, p.candidate);
             hn::Store(zeroI, di, p.exitEnds);
-            if (!any) return;
+            return any;
         }
     }
 };
@@ -451,14 +451,19 @@ void SafetyCcMarchPackets(const SafetyCcTracer& tracer, std::span<const Ray> ray
                 tracer.options().positiveDistance,
                 rays,
                 hits};
-    Packet p{};
-    bool any = false;
-    for (size_t k = 0; k < kLanes; ++k) {
-        March::park(p, k);
-        if (k < hn::Lanes(DF())) march.fill(p, k);
-        any = any || p.active[k] != 0;
-    }
-    if (any) march.run(p);
+    // Two packets in turn: while one waits for its gathers, the other's pass can run (the
+    // passes of one packet depend on each other, those of two do not).
+    Packet packets[2] = {};
+    bool alive[2] = {false, false};
+    for (int q = 0; q < 2; ++q)
+        for (size_t k = 0; k < kLanes; ++k) {
+            March::park(packets[q], k);
+            if (k < hn::Lanes(DF())) march.fill(packets[q], k);
+            alive[q] = alive[q] || packets[q].active[k] != 0;
+        }
+    while (alive[0] || alive[1])
+        for (int q = 0; q < 2; ++q)
+            if (alive[q]) alive[q] = march.pass(packets[q]);
 }
 
 }  // namespace HWY_NAMESPACE

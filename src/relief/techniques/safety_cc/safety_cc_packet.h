@@ -11,10 +11,11 @@
 //   surface/cell_test-inl.h), a jump (the map fetch, a gather of r, z0 and s_c, the
 //   cylinder-cone step, the height above S where it lands), or a bisection step (the height
 //   above S at the midpoint); the hand-overs between them are selects.
-// Per lane, scalar: the setup (clip, class, first and last centerline: SafetyTracer::setUp), the
-//   rays the march gives to the exact walk (outside φ_max, exterior maps with an interior origin,
-//   near-vertical rays: cellsHit over the span, as trace does), the root once the signs say a
-//   cell holds the hit (firstHitInCell, in double), the floor rule at the box exit.
+// Per lane, scalar: the setup (class, first and last centerline: SafetyTracer::setUp; the clip
+//   is SIMD, surface/ray_feed-inl.h), the rays the march gives to the exact walk (outside
+//   φ_max, exterior maps with an interior origin, near-vertical rays: cellsHit over the span, as
+//   trace does), the root once the signs say a cell holds the hit (firstHitInCell, in double),
+//   the floor rule at the box exit.
 // Scope: clamp mode, no iteration cap, the reference's final test (view-dependent=0); the row
 //   keeps the scalar march otherwise.
 #include <relief/techniques/safety_cc/safety_cc.h>
