@@ -1,10 +1,11 @@
-// The cell test of the packet walks (surface/cell_walk_packet.cpp, cone/cone_packet.cpp), per
-// Highway target: included by their foreach_target translation units once per target (Highway's
+// The cell test of the packet walks (surface/cell_walk_packet.cpp, cone/cone_packet.cpp,
+// safety_cc/safety_cc_packet.cpp, common/pyramid_walk_packet.cpp), per Highway target: included by their foreach_target translation units once per target (Highway's
 // -inl.h convention: the guard toggles with HWY_TARGET_TOGGLE).
 // firstHitInCell (cell_intersect.h) decides "the segment meets S in the cell" by four float sign
 // tests (the height above each triangle plane at both ends); these are the same operations in
-// the same order, lane by lane. The root itself (in double) stays scalar: it is computed once per
-// ray, for the lanes these tests flag.
+// the same order, lane by lane. The cell walks take the root (in double) per flagged lane, in
+// scalar code (once per ray); the pyramid walk, whose cell tests are its per-lane cost, takes all
+// of firstHitInCell in SIMD (FirstHitInCell).
 #if defined(RELIEF_SURFACE_CELL_TEST_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SURFACE_CELL_TEST_INL_H_
 #undef RELIEF_SURFACE_CELL_TEST_INL_H_
@@ -13,6 +14,7 @@
 #endif
 
 #include <hwy/highway.h>
+#include <relief/core/math.h>
 
 HWY_BEFORE_NAMESPACE();
 namespace relief {
@@ -26,6 +28,39 @@ struct LaneRays {
     VF ox, oy, oz, dx, dy, dz;
 };
 
+// A cell's two triangle planes across lanes (Surface::cellCorners and planesFromCorners): the
+// corner z00 is heights[offset] in the padded heights (rows of `stride`).
+template <class VF>
+struct LanePlanes {
+    VF firstZ0, firstSx, firstSy, secondZ0, secondSx, secondSy;
+};
+
+template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
+HWY_INLINE LanePlanes<VF> CellPlanesAt(DF df, const float* heights, VI offset, VI stride) {
+    const hn::RebindToSigned<DF> di;
+    const VI one = hn::Set(di, 1);
+    const VF z00 = hn::GatherIndex(df, heights, offset);
+    const VF z10 = hn::GatherIndex(df, heights, hn::Add(offset, one));
+    const VF z01 = hn::GatherIndex(df, heights, hn::Add(offset, stride));
+    const VF z11 = hn::GatherIndex(df, heights, hn::Add(hn::Add(offset, stride), one));
+    const auto lowDiagonal = hn::Le(hn::Add(z00, z11), hn::Add(z10, z01));
+    return {z00,
+            hn::Sub(z10, z00),
+            hn::IfThenElse(lowDiagonal, hn::Sub(z11, z10), hn::Sub(z01, z00)),
+            hn::IfThenElse(lowDiagonal, z00, hn::Sub(hn::Add(z10, z01), z11)),
+            hn::Sub(z11, z01),
+            hn::IfThenElse(lowDiagonal, hn::Sub(z01, z00), hn::Sub(z11, z10))};
+}
+
+// firstHitOnPlane's height of the ray above a plane at t: origin.z + t·d.z − plane.at(ou + t·d.x,
+// ov + t·d.y), with (ou, ov) the origin relative to the cell's centre.
+template <class VF>
+HWY_INLINE VF AbovePlane(VF z0, VF sx, VF sy, const LaneRays<VF>& r, VF ou, VF ov, VF t) {
+    const VF u = hn::Add(ou, hn::Mul(t, r.dx)), v = hn::Add(ov, hn::Mul(t, r.dy));
+    const VF plane = hn::Add(hn::Add(z0, hn::Mul(sx, u)), hn::Mul(sy, v));
+    return hn::Sub(hn::Add(r.oz, hn::Mul(t, r.dz)), plane);
+}
+
 // Per lane: true where the segment [ta, tb] of the ray certainly misses S in cell (fci, fcj)
 // (its index as floats), whose corner z00 is heights[offset] in the padded heights (rows of
 // `stride`): every one of firstHitOnPlane's four heights above the planes is > 0. Elsewhere
@@ -33,32 +68,87 @@ struct LaneRays {
 template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
 HWY_INLINE hn::Mask<DF> SegmentMissesCell(DF df, const float* heights, VI offset, VI stride,
                                          VF fci, VF fcj, const LaneRays<VF>& r, VF ta, VF tb) {
-    const hn::RebindToSigned<DF> di;
-    const VI one = hn::Set(di, 1);
-    // Surface::cellCorners and planesFromCorners.
-    const VF z00 = hn::GatherIndex(df, heights, offset);
-    const VF z10 = hn::GatherIndex(df, heights, hn::Add(offset, one));
-    const VF z01 = hn::GatherIndex(df, heights, hn::Add(offset, stride));
-    const VF z11 = hn::GatherIndex(df, heights, hn::Add(hn::Add(offset, stride), one));
-    const auto lowDiagonal = hn::Le(hn::Add(z00, z11), hn::Add(z10, z01));
-    const VF firstSx = hn::Sub(z10, z00);
-    const VF firstSy = hn::IfThenElse(lowDiagonal, hn::Sub(z11, z10), hn::Sub(z01, z00));
-    const VF secondZ0 = hn::IfThenElse(lowDiagonal, z00, hn::Sub(hn::Add(z10, z01), z11));
-    const VF secondSx = hn::Sub(z11, z01);
-    const VF secondSy = hn::IfThenElse(lowDiagonal, hn::Sub(z01, z00), hn::Sub(z11, z10));
-    // firstHitOnPlane: origin.z + t·d.z − plane.at(ou + t·d.x, ov + t·d.y)
+    const LanePlanes<VF> p = CellPlanesAt(df, heights, offset, stride);
     const VF half = hn::Set(df, 0.5f);
     const VF ou = hn::Sub(r.ox, hn::Add(fci, half)), ov = hn::Sub(r.oy, hn::Add(fcj, half));
-    const auto above = [&](VF z0, VF sx, VF sy, VF t) {
-        const VF u = hn::Add(ou, hn::Mul(t, r.dx)), v = hn::Add(ov, hn::Mul(t, r.dy));
-        const VF plane = hn::Add(hn::Add(z0, hn::Mul(sx, u)), hn::Mul(sy, v));
-        return hn::Sub(hn::Add(r.oz, hn::Mul(t, r.dz)), plane);
-    };
     const VF zero = hn::Zero(df);
-    return hn::And(hn::And(hn::Gt(above(z00, firstSx, firstSy, ta), zero),
-                           hn::Gt(above(z00, firstSx, firstSy, tb), zero)),
-                   hn::And(hn::Gt(above(secondZ0, secondSx, secondSy, ta), zero),
-                           hn::Gt(above(secondZ0, secondSx, secondSy, tb), zero)));
+    const auto above = [&](VF z0, VF sx, VF sy, VF t) {
+        return hn::Gt(AbovePlane(z0, sx, sy, r, ou, ov, t), zero);
+    };
+    return hn::And(hn::And(above(p.firstZ0, p.firstSx, p.firstSy, ta),
+                           above(p.firstZ0, p.firstSx, p.firstSy, tb)),
+                   hn::And(above(p.secondZ0, p.secondSx, p.secondSy, ta),
+                           above(p.secondZ0, p.secondSx, p.secondSy, tb)));
+}
+
+// firstHitInCell across lanes, bit for bit: the smallest t in [ta, tb] where the ray is on or
+// below S in cell (fci, fcj), or kInfinity; the float sign tests as above, the root in double
+// (two vectors of doubles per vector of floats), as the scalar code solves it.
+// firstHitOnPlane's line a + b·t in double for the lanes, with a and b as the scalar code forms
+// them: −a/b rounded to float, and −1 where b < 0 (else +1).
+template <class D, class VF>
+HWY_INLINE void PlaneRootsIn(D dd, VF ox, VF oy, VF oz, VF dx, VF dy, VF dz, VF cellX, VF cellY,
+                             VF z0, VF sx, VF sy, hn::Vec<D>& root, hn::Vec<D>& sign) {
+    const auto du = hn::Sub(ox, cellX), dv = hn::Sub(oy, cellY);
+    const auto a = hn::Sub(oz, hn::Add(hn::Add(z0, hn::Mul(sx, du)), hn::Mul(sy, dv)));
+    const auto b = hn::Sub(hn::Sub(dz, hn::Mul(sx, dx)), hn::Mul(sy, dy));
+    root = hn::Div(hn::Neg(a), b);
+    sign = hn::IfThenElse(hn::Lt(b, hn::Zero(dd)), hn::Set(dd, -1.0), hn::Set(dd, 1.0));
+}
+
+// Promotes the lanes to double (two vectors of doubles per vector of floats; one for the
+// single-lane target), solves each plane's line there and demotes −a/b and the sign of b back.
+template <class DF, class VF>
+HWY_INLINE void PlaneRoots(DF df, const LaneRays<VF>& r, VF cellX, VF cellY, VF z0, VF sx, VF sy,
+                           VF& root, VF& sign) {
+#if HWY_TARGET == HWY_SCALAR
+    const hn::Rebind<double, DF> dd;
+    const auto up = [&](VF v) { return hn::PromoteTo(dd, v); };
+    hn::Vec<decltype(dd)> rootD, signD;
+    PlaneRootsIn(dd, up(r.ox), up(r.oy), up(r.oz), up(r.dx), up(r.dy), up(r.dz), up(cellX),
+                 up(cellY), up(z0), up(sx), up(sy), rootD, signD);
+    root = hn::DemoteTo(df, rootD);
+    sign = hn::DemoteTo(df, signD);
+#else
+    const hn::Half<DF> dh;
+    const hn::Rebind<double, decltype(dh)> dd;
+    hn::Vec<decltype(dd)> rootLo, signLo, rootHi, signHi;
+    const auto lo = [&](VF v) { return hn::PromoteTo(dd, hn::LowerHalf(dh, v)); };
+    const auto hi = [&](VF v) { return hn::PromoteTo(dd, hn::UpperHalf(dh, v)); };
+    PlaneRootsIn(dd, lo(r.ox), lo(r.oy), lo(r.oz), lo(r.dx), lo(r.dy), lo(r.dz), lo(cellX),
+                 lo(cellY), lo(z0), lo(sx), lo(sy), rootLo, signLo);
+    PlaneRootsIn(dd, hi(r.ox), hi(r.oy), hi(r.oz), hi(r.dx), hi(r.dy), hi(r.dz), hi(cellX),
+                 hi(cellY), hi(z0), hi(sx), hi(sy), rootHi, signHi);
+    root = hn::Combine(df, hn::DemoteTo(dh, rootHi), hn::DemoteTo(dh, rootLo));
+    sign = hn::Combine(df, hn::DemoteTo(dh, signHi), hn::DemoteTo(dh, signLo));
+#endif
+}
+
+// firstHitInCell across lanes, bit for bit: the smallest t in [ta, tb] where the ray is on or
+// below S in cell (fci, fcj), or kInfinity; the float sign tests as above, the root in double as
+// the scalar code solves it.
+template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
+HWY_INLINE VF FirstHitInCell(DF df, const float* heights, VI offset, VI stride, VF fci, VF fcj,
+                             const LaneRays<VF>& r, VF ta, VF tb) {
+    const LanePlanes<VF> p = CellPlanesAt(df, heights, offset, stride);
+    const VF half = hn::Set(df, 0.5f), zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
+    const VF cellX = hn::Add(fci, half), cellY = hn::Add(fcj, half);
+    const VF ou = hn::Sub(r.ox, cellX), ov = hn::Sub(r.oy, cellY);
+    const auto onPlane = [&](VF z0, VF sx, VF sy) {  // firstHitOnPlane
+        VF root, sign;
+        PlaneRoots(df, r, cellX, cellY, z0, sx, sy, root, sign);
+        // std::clamp(float(-a / b), ta, tb) where b < 0, else tb
+        const VF clamped = hn::IfThenElse(hn::Lt(root, ta), ta,
+                                          hn::IfThenElse(hn::Lt(tb, root), tb, root));
+        const VF solved = hn::IfThenElse(hn::Lt(sign, zero), clamped, tb);
+        const VF above1 = AbovePlane(z0, sx, sy, r, ou, ov, tb);
+        const VF beyond = hn::IfThenElse(hn::Gt(above1, zero), inf, solved);
+        const VF above0 = AbovePlane(z0, sx, sy, r, ou, ov, ta);
+        return hn::IfThenElse(hn::Le(above0, zero), ta, beyond);
+    };
+    const VF t0 = onPlane(p.firstZ0, p.firstSx, p.firstSy);
+    const VF t1 = onPlane(p.secondZ0, p.secondSx, p.secondSy);
+    return hn::IfThenElse(hn::Eq(t0, ta), t0, hn::IfThenElse(hn::Lt(t1, t0), t1, t0));
 }
 
 }  // namespace cell_test

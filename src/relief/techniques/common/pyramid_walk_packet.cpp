@@ -11,6 +11,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
+#include <relief/surface/cell_test-inl.h>
 #include <relief/surface/packet_lanes-inl.h>
 #include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/common/pyramid_walk.h>
@@ -30,7 +31,8 @@ using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 struct Packet {
     alignas(64) float t[kLanes], exitX[kLanes], exitY[kLanes];
     alignas(64) int32_t level[kLanes], px[kLanes], py[kLanes], baseX[kLanes], baseY[kLanes];
-    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dz[kLanes];
+    alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
+    alignas(64) float tEnter[kLanes];
     alignas(64) float invX[kLanes], invY[kLanes], invZ[kLanes], tExit[kLanes], slack[kLanes];
     alignas(64) int32_t stepX[kLanes], stepY[kLanes], exitMaskX[kLanes], exitMaskY[kLanes];
     alignas(64) int32_t active[kLanes], steps[kLanes], fetches[kLanes];
@@ -49,6 +51,7 @@ struct Walk {
     std::span<const Ray> rays;
     std::span<Hit> hits;
     ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
+    const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
     // Puts the batch's next ray that needs a walk into `lane` (as walkPyramid starts it), or
     // parks the lane (a valid level-0 node, so that its gathers stay in the pyramid).
@@ -75,7 +78,10 @@ struct Walk {
         p.ox[lane] = r.o.x;
         p.oy[lane] = r.o.y;
         p.oz[lane] = r.o.z;
+        p.dx[lane] = r.d.x;
+        p.dy[lane] = r.d.y;
         p.dz[lane] = r.d.z;
+        p.tEnter[lane] = r.tEnter;
         p.invX[lane] = r.invX;
         p.invY[lane] = r.invY;
         p.invZ[lane] = r.invZ;
@@ -186,27 +192,44 @@ struct Walk {
         const MI descends = hn::AndNot(atLeaf, below);
         const MI leaf = hn::And(below, atLeaf);
 
-        // Level 0: the reference's cell test, lane by lane (through the arrays).
+        // Level 0: the reference's cell test (leafHit) across lanes, over the ray's whole span in
+        // the cell (its ends as the reference computes them).
         MI leafHits = hn::RebindMask(di, hn::Lt(hn::Zero(df), hn::Zero(df)));  // none
         if (!hn::AllFalse(di, leaf)) {
             fetches = hn::Add(fetches, hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches)));
-            hn::Store(hn::VecFromMask(di, leaf), di, p.leafHit);
-            hn::Store(px, di, p.px);
-            hn::Store(py, di, p.py);
-            hn::Store(baseX, di, p.baseX);
-            hn::Store(baseY, di, p.baseY);
-            for (size_t k = 0; k < n; ++k) {
-                if (!p.leafHit[k]) continue;
-                WalkCursor c{};
-                c.px = p.px[k];
-                c.py = p.py[k];
-                c.baseX = p.baseX[k];
-                c.baseY = p.baseY[k];
-                const float tHit = leafHit(s, rays[p.index[k]], p.ray[k], c);
-                p.leafT[k] = tHit;
-                p.leafHit[k] = tHit < kInfinity ? -1 : 0;
-            }
-            leafHits = hn::MaskFromVec(hn::Load(di, p.leafHit));
+            const VI ci = hn::Add(baseX, px), cj = hn::Add(baseY, py);
+            VF ta = hn::Load(df, p.tEnter), tb = tExit;
+            // std::max(ta, boundaryT(near side)), std::min(tb, boundaryT(far side)), per axis
+            const auto clipAxis = [&](VI step, VI cell, VF origin, VF inverse) {
+                const MI up = hn::Gt(step, zeroI);
+                const VF nearT = hn::Mul(
+                    hn::Sub(hn::Add(hn::ConvertTo(df, hn::IfThenElse(up, cell, hn::Add(cell, oneI))),
+                                    edge),
+                            origin),
+                    inverse);
+                const VF farT = hn::Mul(
+                    hn::Sub(hn::Add(hn::ConvertTo(df, hn::IfThenElse(up, hn::Add(cell, oneI), cell)),
+                                    edge),
+                            origin),
+                    inverse);
+                const MF moves = hn::RebindMask(df, hn::Not(hn::Eq(step, zeroI)));
+                ta = hn::IfThenElse(hn::And(moves, hn::Lt(ta, nearT)), nearT, ta);
+                tb = hn::IfThenElse(hn::And(moves, hn::Lt(farT, tb)), farT, tb);
+            };
+            clipAxis(stepX, ci, ox, invX);
+            clipAxis(stepY, cj, oy, invY);
+            tb = hn::IfThenElse(hn::Lt(ta, tb), tb, ta);
+            // The cell's corners in the padded heights: clamp, cells -1..W-1 (column ci + 1);
+            // repeat, pyramid index px is the wrapped cell (column px + 1).
+            const VI column = hn::Add(layout.repeat ? px : ci, oneI);
+            const VI row = hn::Add(layout.repeat ? py : cj, oneI);
+            const VI heightStride = hn::Set(di, s.width() + 2);
+            const VF th = cell_test::FirstHitInCell(
+                df, heights, hn::Add(hn::Mul(row, heightStride), column), heightStride,
+                hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
+                {ox, oy, oz, hn::Load(df, p.dx), hn::Load(df, p.dy), dz}, ta, tb);
+            leafHits = hn::And(leaf, hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
+            hn::Store(th, df, p.leafT);
         }
 
         // descend (settleHalf per axis; no texel ties: the pyramid is over cells)
