@@ -10,6 +10,7 @@
 #include <relief/io/heightfield_io.h>
 #include <relief/render/camera.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
+#include <relief/techniques/registry.h>
 #include <relief/techniques/technique.h>
 #include <support/walk_test_support.h>
 
@@ -17,6 +18,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <numbers>
 #include <span>
 #include <string>
@@ -80,6 +82,23 @@ inline void compareBatches(const TraceSpan& packets, const TraceOne& scalar,
                           << ", packet hit " << hits[k].hit << " t " << hits[k].t << " steps "
                           << hits[k].steps;
     }
+}
+
+using Overrides = std::vector<std::pair<std::string, double>>;
+
+// The registry's row `name` over the surface, with these parameters.
+inline std::unique_ptr<Tracer> rowTracer(const std::string& name,
+                                         const std::shared_ptr<const Surface>& surface,
+                                         const Overrides& overrides) {
+    auto tracer = createTracer(name, surface, overrides);
+    RELIEF_CHECK(tracer.ok());
+    return std::move(*tracer);
+}
+
+// "defaults", or the first parameter as NAME=V.
+inline std::string describe(const Overrides& overrides) {
+    return overrides.empty() ? "defaults"
+                             : overrides[0].first + "=" + std::to_string(int(overrides[0].second));
 }
 
 // A registry row's packet path against its scalar path (PacketTracer::scalarPath, ray by ray).

@@ -10,6 +10,7 @@
 #endif
 
 #include <hwy/highway.h>
+#include <relief/core/math.h>
 
 #include <cstddef>
 
@@ -26,6 +27,31 @@ using VI = hn::Vec<DI>;
 using MF = hn::Mask<DF>;
 using MI = hn::Mask<DI>;
 constexpr size_t kLanes = 16;  // array size; a target uses Lanes(DF()) ≤ 16 of them
+
+// A lane's ray into a packet's arrays ox, oy, oz, dx, dy, dz.
+template <class Packet>
+void setLaneRay(Packet& p, size_t lane, const Ray& ray) {
+    p.ox[lane] = ray.origin.x;
+    p.oy[lane] = ray.origin.y;
+    p.oz[lane] = ray.origin.z;
+    p.dx[lane] = ray.direction.x;
+    p.dy[lane] = ray.direction.y;
+    p.dz[lane] = ray.direction.z;
+}
+
+// A lane's ray and cellsHit's per-ray constants (cell_walk.h: the step per axis, 1/d and the
+// exit side's offset), into a packet's arrays of those names.
+template <class Packet>
+void setCellWalkRay(Packet& p, size_t lane, const Ray& ray) {
+    setLaneRay(p, lane, ray);
+    const vec3& d = ray.direction;
+    p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
+    p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
+    p.invX[lane] = 1.0f / d.x;
+    p.invY[lane] = 1.0f / d.y;
+    p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
+    p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+}
 
 }  // namespace packet_lanes
 }  // namespace HWY_NAMESPACE

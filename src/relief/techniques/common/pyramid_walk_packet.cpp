@@ -75,12 +75,7 @@ struct Walk {
         p.py[lane] = c.py;
         p.baseX[lane] = c.baseX;
         p.baseY[lane] = c.baseY;
-        p.ox[lane] = r.o.x;
-        p.oy[lane] = r.o.y;
-        p.oz[lane] = r.o.z;
-        p.dx[lane] = r.d.x;
-        p.dy[lane] = r.d.y;
-        p.dz[lane] = r.d.z;
+        setLaneRay(p, lane, ray);  // r.o, r.d
         p.tEnter[lane] = r.tEnter;
         p.invX[lane] = r.invX;
         p.invY[lane] = r.invY;

@@ -53,17 +53,11 @@ struct March {
         RayInterval span;
         if (!feed.next(i, span)) return park(p, lane);
         const Ray& ray = rays[i];
-        const vec3& o = ray.origin;
         const vec3& d = ray.direction;
         p.t[lane] = span.tEnter;
         p.tExit[lane] = span.tExit;
         p.horizontal[lane] = std::sqrt(d.x * d.x + d.y * d.y);
-        p.ox[lane] = o.x;
-        p.oy[lane] = o.y;
-        p.oz[lane] = o.z;
-        p.dx[lane] = d.x;
-        p.dy[lane] = d.y;
-        p.dz[lane] = d.z;
+        setLaneRay(p, lane, ray);
         p.steps[lane] = p.fetches[lane] = 0;
         p.active[lane] = -1;
         p.index[lane] = i;

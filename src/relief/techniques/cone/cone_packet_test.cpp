@@ -15,24 +15,9 @@
 namespace relief {
 namespace {
 
-using packet_test::compareRowPaths;
-using packet_test::Counts;
-using packet_test::forEachTarget;
-using Overrides = std::vector<std::pair<std::string, double>>;
-
-std::unique_ptr<Tracer> coneTracer(const std::shared_ptr<const Surface>& surface,
-                                   const Overrides& overrides) {
-    auto tracer = createTracer("cone", surface, overrides);
-    RELIEF_CHECK(tracer.ok());
-    return std::move(*tracer);
-}
+using namespace packet_test;  // rowTracer, compareRowPaths, forEachTarget, Counts, ...
 
 const Overrides kCases[] = {{}, {{"variant", 1}}, {{"max-steps", 6}}, {{"bits", 8}}};
-
-std::string describe(const Overrides& overrides) {
-    return overrides.empty() ? "defaults"
-                             : overrides[0].first + "=" + std::to_string(int(overrides[0].second));
-}
 
 TEST(ConePackets, IdenticalToScalarOnAdversarialMapsAndRays) {
     if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
@@ -45,7 +30,7 @@ TEST(ConePackets, IdenticalToScalarOnAdversarialMapsAndRays) {
             walk_test::RayMaker maker(*surface, seed++);
             const std::vector<Ray> rays = maker.all(100);
             for (const Overrides& overrides : kCases)
-                compareRowPaths(*coneTracer(surface, overrides), rays,
+                compareRowPaths(*rowTracer("cone", surface, overrides), rays,
                                 walk_test::describe(m) + " " + describe(overrides), counts);
         }
         std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
@@ -69,7 +54,7 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
                     return hit;
                 });
             for (const Overrides& overrides : {Overrides{}, Overrides{{"variant", 1}}})
-                compareRowPaths(*coneTracer(surface, overrides), rays,
+                compareRowPaths(*rowTracer("cone", surface, overrides), rays,
                                 name + " " + describe(overrides), counts);
         }
         std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
@@ -83,7 +68,7 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
 TEST(ConePackets, RegistryConeTracesPacketsInClampMode) {
     for (const EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
         const auto surface = walk_test::makeSurface({"fbm", 64, 48, edge, 0.2f});
-        const auto tracer = coneTracer(surface, {});
+        const auto tracer = rowTracer("cone", surface, {});
         const bool packets = dynamic_cast<const PacketTracer*>(tracer.get()) != nullptr;
         EXPECT_EQ(packets, edge == EdgeMode::Clamp && packetsEnabled());
     }

@@ -96,20 +96,7 @@ struct March {
                 hits[i] = hit;
                 continue;
             }
-            const vec3& o = ray.origin;
-            const vec3& d = ray.direction;
-            p.ox[lane] = o.x;
-            p.oy[lane] = o.y;
-            p.oz[lane] = o.z;
-            p.dx[lane] = d.x;
-            p.dy[lane] = d.y;
-            p.dz[lane] = d.z;
-            p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
-            p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
-            p.invX[lane] = 1.0f / d.x;
-            p.invY[lane] = 1.0f / d.y;
-            p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
-            p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+            packet_lanes::setCellWalkRay(p, lane, ray);
             p.oA[lane] = w.oA;
             p.oB[lane] = w.oB;
             p.dB[lane] = w.dB;
@@ -365,21 +352,14 @@ struct March {
             }
 
             if (!hn::AllFalse(di, begins)) {
-                // beginCells across lanes: the cell of ray.at(ta).
-                const VI ci = hn::Min(
-                    hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(
-                                                  hn::Add(hn::Load(df, p.ox),
-                                                          hn::Mul(beginTa, hn::Load(df, p.dx))),
-                                                  half))),
-                            minusOne),
-                    lastX);
-                const VI cj = hn::Min(
-                    hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(
-                                                  hn::Add(hn::Load(df, p.oy),
-                                                          hn::Mul(beginTa, hn::Load(df, p.dy))),
-                                                  half))),
-                            minusOne),
-                    lastY);
+                // beginCells across lanes: the cell of ray.at(ta) (Surface::cellOfX, clamp mode).
+                const auto cellOf = [&](const float* origin, const float* direction, VI last) {
+                    const VF x = hn::Add(hn::Load(df, origin),
+                                         hn::Mul(beginTa, hn::Load(df, direction)));
+                    return hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(x, half))), minusOne),
+                                   last);
+                };
+                const VI ci = cellOf(p.ox, p.dx, lastX), cj = cellOf(p.oy, p.dy, lastY);
                 const MF beginsF = hn::RebindMask(df, begins);
                 hn::Store(hn::IfThenElse(begins, hn::Set(di, kCells), hn::Load(di, p.phase)), di,
                           p.phase);

@@ -18,28 +18,13 @@
 namespace relief {
 namespace {
 
-using packet_test::compareRowPaths;
-using packet_test::Counts;
-using packet_test::forEachTarget;
-using Overrides = std::vector<std::pair<std::string, double>>;
-
-std::unique_ptr<Tracer> ccTracer(const std::shared_ptr<const Surface>& surface,
-                                 const Overrides& overrides) {
-    auto tracer = createTracer("safety-cc", surface, overrides);
-    RELIEF_CHECK(tracer.ok());
-    return std::move(*tracer);
-}
+using namespace packet_test;  // rowTracer, compareRowPaths, forEachTarget, Counts, ...
 
 const Overrides kCases[] = {{},
                             {{"isotropic", 1}},
                             {{"positive-distance", 1}},
                             {{"phi-max", -45}},
                             {{"exterior", 1}}};
-
-std::string describe(const Overrides& overrides) {
-    return overrides.empty() ? "defaults"
-                             : overrides[0].first + "=" + std::to_string(int(overrides[0].second));
-}
 
 TEST(SafetyCcPackets, IdenticalToScalarOnAdversarialMapsAndRays) {
     if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
@@ -53,7 +38,7 @@ TEST(SafetyCcPackets, IdenticalToScalarOnAdversarialMapsAndRays) {
         rays.push_back(maker.all(100));
         for (const Overrides& overrides : kCases)
             tracers.emplace_back(walk_test::describe(m) + " " + describe(overrides),
-                                 ccTracer(surface, overrides));
+                                 rowTracer("safety-cc", surface, overrides));
     }
     forEachTarget([&] {
         Counts counts;
@@ -80,7 +65,8 @@ TEST(SafetyCcPackets, IdenticalToScalarOnCameraAndShadowRays) {
             return hit;
         }));
         for (const Overrides& overrides : {Overrides{}, Overrides{{"isotropic", 1}}})
-            tracers.emplace_back(name + " " + describe(overrides), ccTracer(surface, overrides));
+            tracers.emplace_back(name + " " + describe(overrides),
+                                 rowTracer("safety-cc", surface, overrides));
     }
     forEachTarget([&] {
         Counts counts;
@@ -123,7 +109,7 @@ TEST(SafetyCcPackets, RegistryTracesPacketsWhereTheyApply) {
                  {EdgeMode::Clamp, {{"view-dependent", 1}}, false}};
     for (const auto& c : cases) {
         const auto surface = walk_test::makeSurface({"fbm", 64, 48, c.edge, 0.2f});
-        const auto tracer = ccTracer(surface, c.overrides);
+        const auto tracer = rowTracer("safety-cc", surface, c.overrides);
         const bool packets = dynamic_cast<const PacketTracer*>(tracer.get()) != nullptr;
         EXPECT_EQ(packets, c.packets && packetsEnabled()) << describe(c.overrides);
     }
