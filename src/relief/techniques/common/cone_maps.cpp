@@ -640,22 +640,23 @@ private:
         const ivec2 first = tileCell(shift);
         const vec2 origin = vec2(first) + 0.5f;
         std::array<Node, 4 * PyramidLayout::kMaxLevels + 16> stack;
-        int top = pushStart(apex, origin, best.c, stack.data());
+        // Level-1 nodes are tried before they are pushed (on fbm 1024² three in four are
+        // proven: neither sorted, stored nor popped), the others when they are popped.
+        auto keep = [&](const Node& kid) {
+            return kid.level != 1 || !provenEmpty(apex, first, kid, best.c, hints);
+        };
+        int top = pushStart(apex, origin, best.c, stack.data(), keep);
         while (top > 0) {
             const Node n = stack[--top];
             if (!mayLower(n.distance2, n.max, apex.a, best.c)) continue;  // c fell since the push
-            if (m_bounds && n.level > 0 && hints.worthProving(n.level)) {
-                const bool proven = relaxedNodeProvenEmpty(apex, first, n, best.c);
-                hints.recordProof(n.level, proven);
-                if (proven) continue;
-            }
+            if (n.level > 1 && provenEmpty(apex, first, n, best.c, hints)) continue;
             if (n.level == 0) {  // a start node that is already a cell (short reach, tiny map)
                 const ivec2 at = first + ivec2(n.x, n.y);
                 best.offer(ratioOf(apex, at, best.c), at);
                 continue;
             }
             if (n.level > 1) {
-                pushChildren(apex, origin, n, best.c, stack.data(), top);
+                pushChildren(apex, origin, n, best.c, stack.data(), top, keep);
                 continue;
             }
             forEachChild(apex, origin, n, best.c, [&](const Node& cell) {
@@ -729,20 +730,34 @@ private:
     }
 
     // The children that may lower c, highest bound pushed first (the lowest is visited first).
+    // (Those that `keep` also accepts.)
+    template <class Keep>
     void pushChildren(const Apex& apex, vec2 origin, const Node& n, float c, Node* stack,
-                      int& top) const {
+                      int& top, Keep&& keep) const {
         Node* kids = stack + top;
         int count = 0;
-        forEachChild(apex, origin, n, c,
-                     [&](const Node& kid) { insertByBound(kid, kids, count); });
+        forEachChild(apex, origin, n, c, [&](const Node& kid) {
+            if (keep(kid)) insertByBound(kid, kids, count);
+        });
         top += count;
+    }
+
+    // FaithfulRelaxed with the walk rejects: whether relaxedNodeProvenEmpty skips n, tried per
+    // level as SearchHints rules.
+    bool provenEmpty(const Apex& apex, ivec2 first, const Node& n, float c,
+                     SearchHints& hints) const {
+        if (!m_bounds || n.level == 0 || !hints.worthProving(n.level)) return false;
+        const bool proven = relaxedNodeProvenEmpty(apex, first, n, c);
+        hints.recordProof(n.level, proven);
+        return proven;
     }
 
     // Where the descent starts: no cell farther than R = c·(max S − a) from F can lower c, so
     // instead of the root, the (at most 4×4) nodes of the finest level with 2^level ≥ R that
     // meet F grown by R, highest bound pushed first (R taken with a generous margin against
     // rounding). Returns the stack size.
-    int pushStart(const Apex& apex, vec2 origin, float c, Node* stack) const {
+    template <class Keep>
+    int pushStart(const Apex& apex, vec2 origin, float c, Node* stack, Keep&& keep) const {
         const float maxS = m_pyramid.at(m_layout.topLevel(), 0, 0);
         float reach = c * (maxS - apex.a) * 1.001f + 1.0f;
         int level = 0;
@@ -758,10 +773,11 @@ private:
         const ivec2 ys = nodeRange(apex.foot.y0, apex.foot.y1, origin.y, m_layout.heightAt(level));
         int top = 0;
         for (int y = ys.x; y <= ys.y; ++y)
-            for (int x = xs.x; x <= xs.y; ++x)
-                insertByBound(makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
-                                       m_pyramid.at(level, x, y), apex.a),
-                              stack, top);
+            for (int x = xs.x; x <= xs.y; ++x) {
+                const Node n = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
+                                        m_pyramid.at(level, x, y), apex.a);
+                if (keep(n)) insertByBound(n, stack, top);
+            }
         return top;
     }
 
