@@ -604,12 +604,11 @@ private:
         // The lowest ratio a cell of the node can give, squared: distance² / (max − a)² (+∞
         // when max ≤ a). Nodes are visited lowest bound first, so that c falls early and
         // fewer candidates reach the relaxed search's walk; c is a minimum over all of them, so
-        // the order changes no result.
+        // the order changes no result. Set when the node is pushed (insertByBound).
         float order;
     };
-    static Node makeNode(int level, int x, int y, float distance2, float max, float a) {
-        const float rise = max - a;
-        return {level, x, y, distance2, max, rise > 0.0f ? distance2 / (rise * rise) : kInfinity};
+    static Node makeNode(int level, int x, int y, float distance2, float max) {
+        return {level, x, y, distance2, max, 0.0f};
     }
 
     float ratioOf(const Apex& apex, ivec2 cell, float c) const {
@@ -723,8 +722,7 @@ private:
             for (int x = 2 * n.x; x < x1; ++x) {
                 const float m = m_pyramid.at(level, x, y);
                 if (m <= apex.a) continue;
-                const Node kid = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
-                                          m, apex.a);
+                const Node kid = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y), m);
                 if (mayLower(kid.distance2, m, apex.a, c)) visit(kid);
             }
     }
@@ -737,7 +735,7 @@ private:
         Node* kids = stack + top;
         int count = 0;
         forEachChild(apex, origin, n, c, [&](const Node& kid) {
-            if (keep(kid)) insertByBound(kid, kids, count);
+            if (keep(kid)) insertByBound(kid, apex.a, kids, count);
         });
         top += count;
     }
@@ -775,15 +773,17 @@ private:
         for (int y = ys.x; y <= ys.y; ++y)
             for (int x = xs.x; x <= xs.y; ++x) {
                 const Node n = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y),
-                                        m_pyramid.at(level, x, y), apex.a);
-                if (keep(n)) insertByBound(n, stack, top);
+                                        m_pyramid.at(level, x, y));
+                if (keep(n)) insertByBound(n, apex.a, stack, top);
             }
         return top;
     }
 
-    // Inserts n into stack[0, top) kept highest bound first (the lowest is popped first; ties:
-    // the one inserted first).
-    static void insertByBound(const Node& n, Node* stack, int& top) {
+    // Inserts n, its order set for apex height a, into stack[0, top) kept highest bound first
+    // (the lowest is popped first; ties: the one inserted first).
+    static void insertByBound(Node n, float a, Node* stack, int& top) {
+        const float rise = n.max - a;
+        n.order = rise > 0.0f ? n.distance2 / (rise * rise) : kInfinity;
         int k = top++;
         for (; k > 0 && stack[k - 1].order < n.order; --k) stack[k] = stack[k - 1];
         stack[k] = n;
