@@ -162,26 +162,38 @@ public:
 
 private:
     // Max of the values at offsets −r, 0, +r along rows, then along columns, wrapped or clamped.
+    // Both passes go along rows (the second takes three whole rows), contiguous in memory.
     std::vector<float> grow(const std::vector<float>& in, int r) const {
-        std::vector<float> across(in.size()), out(in.size());
-        auto pass = [&](const std::vector<float>& from, std::vector<float>& to, bool alongRows) {
-            const int lines = alongRows ? m_grid.rows : m_grid.columns;
-            const int length = alongRows ? m_grid.columns : m_grid.rows;
-            auto index = [&](int64_t line, int k) {
-                return alongRows ? size_t(line) * size_t(m_grid.columns) + size_t(k)
-                                 : size_t(k) * size_t(m_grid.columns) + size_t(line);
-            };
-            parallelRanges(lines, 16, [&](int64_t begin, int64_t end) {
-                for (int64_t line = begin; line < end; ++line)
-                    for (int k = 0; k < length; ++k)
-                        to[index(line, k)] = std::max(
-                            {from[index(line, m_grid.wrapOrClamp(k - r, length))],
-                             from[index(line, k)],
-                             from[index(line, m_grid.wrapOrClamp(k + r, length))]});
-            });
+        const int columns = m_grid.columns, rows = m_grid.rows;
+        auto row = [&](const std::vector<float>& v, int j) {
+            return &v[size_t(j) * size_t(columns)];
         };
-        pass(in, across, true);
-        pass(across, out, false);
+        std::vector<float> across(in.size()), out(in.size());
+        parallelRanges(rows, 16, [&](int64_t begin, int64_t end) {
+            for (int j = int(begin); j < int(end); ++j) {
+                const float* from = row(in, j);
+                float* to = &across[size_t(j) * size_t(columns)];
+                auto edge = [&](int k) {
+                    return std::max(std::max(from[m_grid.wrapOrClamp(k - r, columns)], from[k]),
+                                    from[m_grid.wrapOrClamp(k + r, columns)]);
+                };
+                const int inner0 = std::min(r, columns), inner1 = std::max(inner0, columns - r);
+                for (int k = 0; k < inner0; ++k) to[k] = edge(k);
+                for (int k = inner0; k < inner1; ++k)
+                    to[k] = std::max(std::max(from[k - r], from[k]), from[k + r]);
+                for (int k = inner1; k < columns; ++k) to[k] = edge(k);
+            }
+        });
+        parallelRanges(rows, 16, [&](int64_t begin, int64_t end) {
+            for (int j = int(begin); j < int(end); ++j) {
+                const float* below = row(across, m_grid.wrapOrClamp(j - r, rows));
+                const float* here = row(across, j);
+                const float* above = row(across, m_grid.wrapOrClamp(j + r, rows));
+                float* to = &out[size_t(j) * size_t(columns)];
+                for (int k = 0; k < columns; ++k)
+                    to[k] = std::max(std::max(below[k], here[k]), above[k]);
+            }
+        });
         return out;
     }
 
@@ -253,15 +265,18 @@ public:
                             const float inverse = 1.0f / offsets[o].distance;
                             const int other = row + dj;
                             if (!m_grid.repeat && (other < 0 || other >= m_grid.rows)) continue;
-                            const float* low = &lowest[size_t(m_grid.wrapOrClamp(other, m_grid.rows)) *
-                                                       size_t(columns)];
+                            const float* low =
+                                &lowest[size_t(m_grid.wrapOrClamp(other, m_grid.rows)) *
+                                        size_t(columns)];
                             const int c0 = m_grid.repeat ? 0 : std::max(0, -di);
-                            const int c1 = m_grid.repeat ? columns : std::min(columns, columns - di);
+                            const int c1 =
+                                m_grid.repeat ? columns : std::min(columns, columns - di);
                             if (m_grid.repeat)
                                 for (int c = 0; c < columns; ++c)
-                                    drop[size_t(c)] = std::max(
-                                        drop[size_t(c)],
-                                        (z[c] - low[m_grid.wrapOrClamp(c + di, columns)]) * inverse);
+                                    drop[size_t(c)] =
+                                        std::max(drop[size_t(c)],
+                                                 (z[c] - low[m_grid.wrapOrClamp(c + di, columns)]) *
+                                                     inverse);
                             else
                                 for (int c = c0; c < c1; ++c)
                                     drop[size_t(c)] =
@@ -286,10 +301,12 @@ public:
                                 const uint16_t first = roundUp(firstCellDrop(
                                     s, c + m_grid.first, row + m_grid.first, quadrant & 1,
                                     quadrant & 2));
-                                const size_t sample = size_t(row) * size_t(m_grid.columns) + size_t(c);
+                                const size_t sample =
+                                    size_t(row) * size_t(m_grid.columns) + size_t(c);
                                 for (int level = 0; level < kLevels; ++level)
-                                    v[size_t(level)] = std::max(
-                                        {v[size_t(level)], first, m_drops[slot(sample, quadrant, level)]});
+                                    v[size_t(level)] =
+                                        std::max({v[size_t(level)], first,
+                                                  m_drops[slot(sample, quadrant, level)]});
                             }
                         const size_t node = size_t(ny) * size_t(m_nodeColumns) + size_t(nx);
                         for (int level = 0; level < kLevels; ++level)
@@ -524,9 +541,10 @@ struct Best {
 // What a run of rows carries from texel to texel: the cell that set the last c (the next
 // texel's first guess) and, per pyramid level, how often relaxedNodeProvenEmpty succeeded. That
 // test only skips nodes that cannot lower c, so trying it or not changes no result, only the
-// time; on rough ground it rarely succeeds (fbm 512²: 20 % at level 1, 8 % at 2, none above)
-// and its square roots and window read cost more than the walks it saves (14 % more CPU with it
-// than without), on smooth ground it saves more than it costs (peaks6 1024²: 21 % less). So a
+// time; with the slope windows alone it rarely succeeded on rough ground (fbm 512²: 20 % at
+// level 1, 8 % at 2, none above; with SampleDrops 76 % on fbm 1024²) and its square roots and
+// window read cost more than the walks it saved (14 % more CPU with it than without), on smooth
+// ground it saves more than it costs (peaks6 1024²: 21 % less). So a
 // level is tried while at least half of its recent tries succeed, and otherwise one node in 16,
 // to notice when the ground changes (fbm 512² 8.2 CPU-s as with no tries, peaks6 1024² 8.5
 // against 10.3 always trying and 13.0 never).
@@ -668,8 +686,9 @@ private:
     // FaithfulRelaxed: relaxedRatio's walk skip, bounded over a whole node. Every candidate ray
     // through a sample of n descends at least (D − max n) / (farthest sample distance) per texel
     // and needs to travel at most c(D − a) / (1 + c·that) − (nearest distance) past its sample
-    // before its ratio reaches c; when that slope beats the steepest plane within the node grown
-    // by that travel, and no box face is that close, no walk in n can find an exit below c.
+    // before its ratio reaches c; when no box face is that close and that slope beats SampleDrops'
+    // bound for the node (level 1, every sample in one quadrant of the apex) or the steepest
+    // plane within the node grown by that travel, no walk in n can find an exit below c.
     // Needs m_bounds (the caller tries it only then).
     bool relaxedNodeProvenEmpty(const Apex& apex, ivec2 first, const Node& n, float c) const {
         const int x0 = n.x << n.level, x1 = std::min((n.x + 1) << n.level, m_layout.cellsX);
@@ -722,7 +741,8 @@ private:
             for (int x = 2 * n.x; x < x1; ++x) {
                 const float m = m_pyramid.at(level, x, y);
                 if (m <= apex.a) continue;
-                const Node kid = makeNode(level, x, y, distance2(apex.foot, origin, level, x, y), m);
+                const Node kid =
+                    makeNode(level, x, y, distance2(apex.foot, origin, level, x, y), m);
                 if (mayLower(kid.distance2, m, apex.a, c)) visit(kid);
             }
     }

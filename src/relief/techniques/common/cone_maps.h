@@ -25,11 +25,15 @@
 //   FaithfulRelaxed Policarpo & Oliveira 2007: apex at the sample; for each sample B higher than
 //                  the apex, the ray from the box top above the apex through B is followed past
 //                  B until it leaves the solid at C; c = min |C − apex| / (z_C − a).
-// Relaxed walks: 94 % of the candidate rays stay in the solid up to where the ratio reaches c
-// (fbm 512²). A walk is skipped when the ray descends faster than the steepest plane within
-// reach (S is continuous and piecewise planar, so S stays above such a ray: no exit to find),
-// per candidate and bounded over whole pyramid nodes; the steepest planes come from max filters
-// of the cell slopes (6 window sizes, 24 bytes per cell). Maps equal the full walks' to the bit.
+// Relaxed walks: 98 % of the candidate rays stay in the solid up to where the ratio reaches c
+// (fbm 1024²). A walk is skipped when a bound proves that S stays above the ray over every cell
+// it would test, per candidate and over whole pyramid nodes: directional first (SampleDrops: the
+// walk only meets cells of the quadrant of its direction; over the first one, a plane through the
+// sample bounds S from below; over the others, each cell's lowest corner, stored per sample,
+// quadrant and reach as the least descent that stays below them, 50 bytes per cell), then
+// isotropic (the ray descends faster than the steepest plane within reach: max filters of the
+// cell slopes, 6 window sizes, 24 bytes per cell). Level-1 nodes are tried before they are
+// pushed. Maps equal the full walks' to the bit.
 // Search: a max pyramid over the cells (common/max_pyramid.h; the published maps, whose
 // candidates are samples, one over the cells' 00 corners, MaxPyramid::overCellOrigins, and
 // distances to the node's samples). A node is skipped when its
