@@ -48,10 +48,11 @@
 // to the bit (cone_test.cpp), not only within a tolerance. Repeat mode visits the tile copies
 // the largest possible cone can reach (copies beyond R cost one range test).
 // Cost, fbm 1024², depth 0.1·size, two threads on a quiet machine (docs/cones.md): safe 0.7 s
-// wall / 1.4 CPU-s, faithful strict 1.9 / 3.6, faithful relaxed 25 / 49 (2026-12-03, a 2-core
-// Intel Xeon: relaxed 50 / 100, docs/benchmarks-bakes.md); about 4.5× (safe) to
-// 12.5× (relaxed) per doubling of the side, since cone radii in texels grow with the depth.
-// Memory: the max pyramid (≈ 4/3 floats per cell) plus the map; relaxed: 24 bytes per cell more.
+// wall / 1.4 CPU-s, faithful strict 1.9 / 3.6, faithful relaxed 25 / 49 (2026-12-03; on a 2-core
+// Intel Xeon 2026-12-04: relaxed 38.6 → 23.0 CPU-s with the directional rejects, 12 s wall
+// when quiet); about 4.5× (safe) to 12.5× (relaxed) per doubling of the side, since cone radii
+// in texels grow with the depth.
+// Memory: the max pyramid (≈ 4/3 floats per cell) plus the map; relaxed: 74 bytes per cell more.
 //
 // Encoding (MapArray "cones", 2 channels): bits 32 stores a and c as floats in texel units.
 // bits 16 / 8 store a / D rounded UP and c / cMax (or sqrt(c / cMax) with `sqrt`) rounded
