@@ -972,7 +972,9 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "relaxed-cone", .paper = "Policarpo & Oliveira 2007 (GPU Gems 3 ch. 18)",
      .summary = "relaxed cone steps (the published map) then binary refinement",
      .contract = Contract::Approximate, .params = kRelaxedConeParams,
-     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps, .mapBytesPerTexel = 24, .check = checkRelaxedCone,
+     .create = createRelaxedCone, .buildMaps = buildRelaxedConeMaps,
+     // peak RSS of a 4096² bake, 2026-12-04 (the walk-reject tables: 50 bytes a cell)
+     .mapBytesPerTexel = 96, .check = checkRelaxedCone,
      .glsl = "relaxed_cone/relaxed_cone.glsl", .glslConstants = kConeMapGlslConstants,
      .pathCases = kRelaxedConePathCases, .mapChannels = kConeChannels,
      .shaderFile = "relaxed_cone.glsl", .shaderFunction = "reliefRelaxedCone",
@@ -988,7 +990,8 @@ static const TechniqueInfo kTechniques[] = {
     {.name = "safety-sd", .paper = "Baboud, Eisemann & Seidel 2011 (precomputed safety shapes §5.2.2, §6.1)",
      .summary = "safety distances per texel and ray class, centerline jumps, bisection, exact cells",
      .contract = Contract::Exact, .params = kSafetySdParams, .create = createSafetySd,
-     .buildMaps = buildSafetySdMaps, .mapBytesPerTexel = 32, .check = checkMaps<makeSafetySdTracer>,
+     // peak RSS of a 4096² bake: 71 bytes per texel (docs/benchmarks-bakes.md, 2026-12-03)
+     .buildMaps = buildSafetySdMaps, .mapBytesPerTexel = 72, .check = checkMaps<makeSafetySdTracer>,
      .viewWarning = safety::viewWarning,
      .glsl = "safety_sd/safety_sd.glsl", .glslConstants = safety::kSafetyMarchGlslConstants,
      .variants = kSafetyVariants, .pathCases = kSafetySdPathCases, .mapSummary = safety::mapSummary,
