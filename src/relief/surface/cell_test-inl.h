@@ -1,6 +1,7 @@
 // The cell test of the packet walks (surface/cell_walk_packet.cpp, cone/cone_packet.cpp,
-// safety_cc/safety_cc_packet.cpp, common/pyramid_walk_packet.cpp), per Highway target: included by their foreach_target translation units once per target (Highway's
-// -inl.h convention: the guard toggles with HWY_TARGET_TOGGLE).
+// safety_cc/safety_cc_packet.cpp, common/pyramid_walk_packet.cpp), per Highway target: included
+// by their foreach_target translation units once per target (Highway's -inl.h convention: the
+// guard toggles with HWY_TARGET_TOGGLE).
 // firstHitInCell (cell_intersect.h) decides "the segment meets S in the cell" by four float sign
 // tests (the height above each triangle plane at both ends); these are the same operations in
 // the same order, lane by lane. The cell walks take the root (in double) per flagged lane, in
@@ -52,8 +53,8 @@ HWY_INLINE LanePlanes<VF> CellPlanesAt(DF df, const float* heights, VI offset, V
             hn::IfThenElse(lowDiagonal, hn::Sub(z01, z00), hn::Sub(z11, z10))};
 }
 
-// firstHitOnPlane's height of the ray above a plane at t: origin.z + t·d.z − plane.at(ou + t·d.x,
-// ov + t·d.y), with (ou, ov) the origin relative to the cell's centre.
+// firstHitOnPlane's height of the ray above a plane at t: origin.z + t·d.z −
+// plane.at(ou + t·d.x, ov + t·d.y), with (ou, ov) the origin relative to the cell's centre.
 template <class VF>
 HWY_INLINE VF AbovePlane(VF z0, VF sx, VF sy, const LaneRays<VF>& r, VF ou, VF ov, VF t) {
     const VF u = hn::Add(ou, hn::Mul(t, r.dx)), v = hn::Add(ov, hn::Mul(t, r.dy));
@@ -81,9 +82,46 @@ HWY_INLINE hn::Mask<DF> SegmentMissesCell(DF df, const float* heights, VI offset
                            above(p.secondZ0, p.secondSx, p.secondSy, tb)));
 }
 
-// firstHitInCell across lanes, bit for bit: the smallest t in [ta, tb] where the ray is on or
-// below S in cell (fci, fcj), or kInfinity; the float sign tests as above, the root in double
-// (two vectors of doubles per vector of floats), as the scalar code solves it.
+// One cell of cellsHit (cell_walk.h) in the lanes `act`: the cell's exits from its index (tx,
+// ty), the segment's end tc = max(ta, min(tx, ty, tb)), the lanes whose segment [ta, tc] may meet
+// S there (firstHitInCell decides; a miss gives t = ∞, still a hit when tc = ∞, so those lanes
+// are left to it too), the lanes at the walk's end (tc ≥ tb), and the next cell (tx ≤ ty: across
+// x). The cell's corners are at `offset` in the padded heights.
+template <class VF, class VI, class MI>
+struct CellStep {
+    VF tc;
+    MI candidate, pastEnd, alongX;
+    VI ciNext, cjNext;
+};
+
+template <class DF, class MI, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
+HWY_INLINE CellStep<VF, VI, MI> StepCell(DF df, MI act, const float* heights, VI offset,
+                                         VI stride, VI ci, VI cj, const LaneRays<VF>& r, VF ta,
+                                         VF tb, VF invX, VF invY, VF exitX, VF exitY, VI stepX,
+                                         VI stepY) {
+    const hn::RebindToSigned<DF> di;
+    const VI zeroI = hn::Zero(di);
+    const VF inf = hn::Set(df, kInfinity);
+    const VF fci = hn::ConvertTo(df, ci), fcj = hn::ConvertTo(df, cj);
+    const VF tx = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepX, zeroI)), inf,
+                                 hn::Mul(hn::Sub(hn::Add(fci, exitX), r.ox), invX));
+    const VF ty = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepY, zeroI)), inf,
+                                 hn::Mul(hn::Sub(hn::Add(fcj, exitY), r.oy), invY));
+    // std::max(ta, std::min({tx, ty, tb}))
+    VF m = tx;
+    m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
+    m = hn::IfThenElse(hn::Lt(tb, m), tb, m);
+    const VF tc = hn::IfThenElse(hn::Lt(ta, m), m, ta);
+    const auto misses = SegmentMissesCell(df, heights, offset, stride, fci, fcj, r, ta, tc);
+    const MI alongX = hn::RebindMask(di, hn::Le(tx, ty));
+    return {tc,
+            hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(tc, inf))), act),
+            hn::And(act, hn::RebindMask(di, hn::Ge(tc, tb))),
+            alongX,
+            hn::Add(ci, hn::IfThenElseZero(alongX, stepX)),
+            hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY))};
+}
+
 // firstHitOnPlane's line a + b·t in double for the lanes, with a and b as the scalar code forms
 // them: −a/b rounded to float, and −1 where b < 0 (else +1).
 template <class D, class VF>

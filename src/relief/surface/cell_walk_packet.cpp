@@ -85,7 +85,7 @@ struct Walk {
         const size_t n = hn::Lanes(df);
         const bool clamp = s.edge() == EdgeMode::Clamp;
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
-        const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
+        const VF zero = hn::Zero(df);
         const int32_t width = s.width(), height = s.height();
         const VI stride = hn::Set(di, width + 2);
         const VI lastX = hn::Set(di, width - 1), lastY = hn::Set(di, height - 1);
@@ -131,32 +131,17 @@ struct Walk {
         reload();
         if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
         for (;;) {
-            // The cell's exits, from its index each time (cellsHit).
-            const VF fci = hn::ConvertTo(df, ci), fcj = hn::ConvertTo(df, cj);
-            const VF tx = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepX, zeroI)), inf,
-                                         hn::Mul(hn::Sub(hn::Add(fci, exitX), ox), invX));
-            const VF ty = hn::IfThenElse(hn::RebindMask(df, hn::Eq(stepY, zeroI)), inf,
-                                         hn::Mul(hn::Sub(hn::Add(fcj, exitY), oy), invY));
-            // std::max(ta, std::min({tx, ty, tb}))
-            VF m = tx;
-            m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
-            m = hn::IfThenElse(hn::Lt(tb, m), tb, m);
-            const VF tc = hn::IfThenElse(hn::Lt(ta, m), m, ta);
-            steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
-
-            // The segment [ta, tc] against S in the cell (cell_test-inl.h).
+            // One cell of cellsHit (cell_test-inl.h): its exits, the segment [ta, tc] against S.
             const VI offset = hn::Add(hn::Mul(hn::Add(wj, oneI), stride), hn::Add(wi, oneI));
-            const MF misses = cell_test::SegmentMissesCell(df, heights, offset, stride, fci, fcj,
-                                                           {ox, oy, oz, dx, dy, dz}, ta, tc);
-            // A miss gives t = ∞, still a hit when tc = ∞: the scalar test decides there too.
-            const MI candidate = hn::AndNot(
-                hn::RebindMask(di, hn::And(misses, hn::Lt(tc, inf))), act);
-
-            const MI pastEnd = hn::And(act, hn::RebindMask(di, hn::Ge(tc, tb)));
-            // The next cell (tx <= ty: across x), and in clamp mode whether it leaves the cells.
-            const MI alongX = hn::RebindMask(di, hn::Le(tx, ty));
-            const VI ciNext = hn::Add(ci, hn::IfThenElseZero(alongX, stepX));
-            const VI cjNext = hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY));
+            const auto cell = cell_test::StepCell(df, act, heights, offset, stride, ci, cj,
+                                                  {ox, oy, oz, dx, dy, dz}, ta, tb, invX, invY,
+                                                  exitX, exitY, stepX, stepY);
+            const VF tc = cell.tc;
+            const MI candidate = cell.candidate, pastEnd = cell.pastEnd, alongX = cell.alongX;
+            const VI ciNext = cell.ciNext, cjNext = cell.cjNext;
+            steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
+            // The next cell's padded column and row, and in clamp mode whether it leaves the
+            // cells.
             VI wiNext = hn::Add(wi, hn::IfThenElseZero(alongX, stepX));
             VI wjNext = hn::Add(wj, hn::IfThenElseZero(hn::Not(alongX), stepY));
             MI leaves = hn::AndNot(act, act);  // none (repeat)

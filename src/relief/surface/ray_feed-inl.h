@@ -68,15 +68,13 @@ HWY_INLINE void ClipRays(DF df, const Surface& s, const Ray* rays, size_t count,
         const auto slab = [&](VF origin, VF direction, VF a, VF b) {
             const auto parallel = hn::Eq(direction, zero);
             const VF inv = hn::Div(one, direction);
-            VF t0 = hn::Mul(hn::Sub(a, origin), inv), t1 = hn::Mul(hn::Sub(b, origin), inv);
-            const auto swap = hn::Gt(t0, t1);
-            const VF first = hn::IfThenElse(swap, t1, t0), second = hn::IfThenElse(swap, t0, t1);
-            t0 = first;
-            t1 = second;
+            const VF ta = hn::Mul(hn::Sub(a, origin), inv), tb = hn::Mul(hn::Sub(b, origin), inv);
+            const auto swap = hn::Gt(ta, tb);  // t0, t1: the pair in order
+            const VF t0 = hn::IfThenElse(swap, tb, ta), t1 = hn::IfThenElse(swap, ta, tb);
             lo = hn::IfThenElse(hn::And(hn::Not(parallel), hn::Lt(lo, t0)), t0, lo);  // std::max
             hi = hn::IfThenElse(hn::And(hn::Not(parallel), hn::Lt(t1, hi)), t1, hi);  // std::min
-            inside = hn::AndNot(hn::AndNot(hn::And(hn::Ge(origin, a), hn::Le(origin, b)), parallel),
-                                inside);
+            const auto within = hn::And(hn::Ge(origin, a), hn::Le(origin, b));
+            inside = hn::AndNot(hn::AndNot(within, parallel), inside);
         };
         slab(oz, dz, zero, depth);
         if (clamp) {

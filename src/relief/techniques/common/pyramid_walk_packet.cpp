@@ -197,16 +197,9 @@ struct Walk {
             // std::max(ta, boundaryT(near side)), std::min(tb, boundaryT(far side)), per axis
             const auto clipAxis = [&](VI step, VI cell, VF origin, VF inverse) {
                 const MI up = hn::Gt(step, zeroI);
-                const VF nearT = hn::Mul(
-                    hn::Sub(hn::Add(hn::ConvertTo(df, hn::IfThenElse(up, cell, hn::Add(cell, oneI))),
-                                    edge),
-                            origin),
-                    inverse);
-                const VF farT = hn::Mul(
-                    hn::Sub(hn::Add(hn::ConvertTo(df, hn::IfThenElse(up, hn::Add(cell, oneI), cell)),
-                                    edge),
-                            origin),
-                    inverse);
+                const VI next = hn::Add(cell, oneI);
+                const VF nearT = boundaryT(hn::IfThenElse(up, cell, next), edge, origin, inverse);
+                const VF farT = boundaryT(hn::IfThenElse(up, next, cell), edge, origin, inverse);
                 const MF moves = hn::RebindMask(df, hn::Not(hn::Eq(step, zeroI)));
                 ta = hn::IfThenElse(hn::And(moves, hn::Lt(ta, nearT)), nearT, ta);
                 tb = hn::IfThenElse(hn::And(moves, hn::Lt(farT, tb)), farT, tb);
@@ -223,7 +216,8 @@ struct Walk {
                 df, heights, hn::Add(hn::Mul(row, heightStride), column), heightStride,
                 hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
                 {ox, oy, oz, hn::Load(df, p.dx), hn::Load(df, p.dy), dz}, ta, tb);
-            leafHits = hn::And(leaf, hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
+            leafHits =
+                hn::And(leaf, hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
             hn::Store(th, df, p.leafT);
         }
 
@@ -361,6 +355,12 @@ struct Walk {
         childExit = hn::IfThenElse(hn::RebindMask(df, throughMiddle), tMiddle, exitT);
     }
 
+    // boundaryT (pyramid_walk.h): where the ray crosses the edge of cell `edgeCell` along an axis.
+    static VF boundaryT(VI edgeCell, VF edge, VF origin, VF inverse) {
+        const DF df;
+        return hn::Mul(hn::Sub(hn::Add(hn::ConvertTo(df, edgeCell), edge), origin), inverse);
+    }
+
     // sideExitT across lanes.
     static VF sideExit(VI p, VI level, VI cells, VI base, VI step, VI exitMask, VF edge, VF origin,
                        VF inverse) {
@@ -373,7 +373,7 @@ struct Walk {
         const VI lo = ((p >> shift) << shift);
         const VI hi = hn::Min(hn::Add(lo, (hn::Set(di, 1) << shift)), cells);
         const VI edgeCell = hn::Add(hn::Add(base, lo), hn::And(hn::Sub(hi, lo), exitMask));
-        const VF tEdge = hn::Mul(hn::Sub(hn::Add(hn::ConvertTo(df, edgeCell), edge), origin), inverse);
+        const VF tEdge = boundaryT(edgeCell, edge, origin, inverse);
         return hn::IfThenElse(hn::RebindMask(df, hn::Eq(step, hn::Zero(di))),
                               hn::Set(df, kInfinity), tEdge);
     }

@@ -153,7 +153,7 @@ struct March {
         const size_t lanes = hn::Lanes(df);
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), twoI = hn::Set(di, 2),
                  fourI = hn::Set(di, 4), minusOne = hn::Set(di, -1);
-        const VF zero = hn::Zero(df), half = hn::Set(df, 0.5f), inf = hn::Set(df, kInfinity);
+        const VF zero = hn::Zero(df), half = hn::Set(df, 0.5f);
         const VF margin = hn::Set(df, tracer.margin());
         const VF farStep = hn::Set(df, float(safety::kFarStep));
         const VI farStepI = hn::Set(di, safety::kFarStep);
@@ -184,40 +184,22 @@ struct March {
             MI events = none;
 
             if (!hn::AllFalse(di, walking)) {
-                // One cell of cellsHit: its exits, from its index each time.
-                const VF ox = hn::Load(df, p.ox), oy = hn::Load(df, p.oy);
+                // One cell of cellsHit (cell_test-inl.h): its exits, the segment [ta, tc] against
+                // S, the next cell.
                 const VF ta = hn::Load(df, p.ta), tb = hn::Load(df, p.tb);
                 const VI ci = hn::Load(di, p.ci), cj = hn::Load(di, p.cj);
-                const VI stepX = hn::Load(di, p.stepX), stepY = hn::Load(di, p.stepY);
-                const VF fci = hn::ConvertTo(df, ci), fcj = hn::ConvertTo(df, cj);
-                const VF tx = hn::IfThenElse(
-                    hn::RebindMask(df, hn::Eq(stepX, zeroI)), inf,
-                    hn::Mul(hn::Sub(hn::Add(fci, hn::Load(df, p.exitX)), ox), hn::Load(df, p.invX)));
-                const VF ty = hn::IfThenElse(
-                    hn::RebindMask(df, hn::Eq(stepY, zeroI)), inf,
-                    hn::Mul(hn::Sub(hn::Add(fcj, hn::Load(df, p.exitY)), oy), hn::Load(df, p.invY)));
-                // std::max(ta, std::min({tx, ty, tb}))
-                VF m = tx;
-                m = hn::IfThenElse(hn::Lt(ty, m), ty, m);
-                m = hn::IfThenElse(hn::Lt(tb, m), tb, m);
-                const VF tc = hn::IfThenElse(hn::Lt(ta, m), m, ta);
+                const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
+                const auto cell = cell_test::StepCell(
+                    df, walking, heights, offset, stride, ci, cj,
+                    {hn::Load(df, p.ox), hn::Load(df, p.oy), hn::Load(df, p.oz),
+                     hn::Load(df, p.dx), hn::Load(df, p.dy), hn::Load(df, p.dz)},
+                    ta, tb, hn::Load(df, p.invX), hn::Load(df, p.invY), hn::Load(df, p.exitX),
+                    hn::Load(df, p.exitY), hn::Load(di, p.stepX), hn::Load(di, p.stepY));
+                const VF tc = cell.tc;
+                const MI candidate = cell.candidate, pastEnd = cell.pastEnd;
+                const VI ciNext = cell.ciNext, cjNext = cell.cjNext;
                 steps = hn::Add(steps, hn::IfThenElseZero(walking, oneI));
                 fetches = hn::Add(fetches, hn::IfThenElseZero(walking, fourI));
-
-                const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
-                const MF misses = cell_test::SegmentMissesCell(
-                    df, heights, offset, stride, fci, fcj,
-                    {ox, oy, hn::Load(df, p.oz), hn::Load(df, p.dx), hn::Load(df, p.dy),
-                     hn::Load(df, p.dz)},
-                    ta, tc);
-                // A miss gives t = ∞, still a hit when tc = ∞: the scalar test decides there too.
-                const MI candidate =
-                    hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(tc, inf))), walking);
-                const MI pastEnd = hn::And(walking, hn::RebindMask(di, hn::Ge(tc, tb)));
-                // The next cell (tx <= ty: across x), and whether it leaves the cells.
-                const MI alongX = hn::RebindMask(di, hn::Le(tx, ty));
-                const VI ciNext = hn::Add(ci, hn::IfThenElseZero(alongX, stepX));
-                const VI cjNext = hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY));
                 const MI leaves = hn::Or(hn::Or(hn::Lt(ciNext, minusOne), hn::Gt(ciNext, lastX)),
                                          hn::Or(hn::Lt(cjNext, minusOne), hn::Gt(cjNext, lastY)));
                 const MI ends = hn::Or(pastEnd, hn::And(walking, leaves));
