@@ -116,8 +116,32 @@ struct March {
         return hit;
     }
 
-    // safeStepMarch's loop in every active lane until the batch is done.
-    void run(Packet& p) {
+    // One packet's lanes between steps, in registers.
+    struct Lanes {
+        MI act;
+        VF t, tExit, horizontal, ox, oy, oz, dx, dy, dz;
+        VI steps, fetches;
+    };
+
+    static void load(const Packet& p, Lanes& r) {
+        const DF df;
+        const DI di;
+        r.act = hn::MaskFromVec(hn::Load(di, p.active));
+        r.t = hn::Load(df, p.t);
+        r.tExit = hn::Load(df, p.tExit);
+        r.horizontal = hn::Load(df, p.horizontal);
+        r.ox = hn::Load(df, p.ox);
+        r.oy = hn::Load(df, p.oy);
+        r.oz = hn::Load(df, p.oz);
+        r.dx = hn::Load(df, p.dx);
+        r.dy = hn::Load(df, p.dy);
+        r.dz = hn::Load(df, p.dz);
+        r.steps = hn::Load(di, p.steps);
+        r.fetches = hn::Load(di, p.fetches);
+    }
+
+    // One turn of safeStepMarch's loop in every active lane of p; false once no lane is active.
+    HWY_INLINE bool step(Packet& p, Lanes& r) {
         const DF df;
         const DI di;
         const size_t n = hn::Lanes(df);
@@ -127,130 +151,123 @@ struct March {
         const VI maxSteps = hn::Set(di, limits.maxSteps);
         const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
         const VI width = hn::Set(di, s.width()), stride = hn::Set(di, s.width() + 2);
+        const MI act = r.act;
+        const VF t = r.t, tExit = r.tExit, ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx,
+                 dy = r.dy, dz = r.dz;
 
-        MI act = hn::MaskFromVec(zeroI);
-        VF t = zero, tExit = zero, horizontal = zero, ox = zero, oy = zero, oz = zero, dx = zero,
-           dy = zero, dz = zero;
-        VI steps = zeroI, fetches = zeroI;
-        const auto reload = [&] {
-            act = hn::MaskFromVec(hn::Load(di, p.active));
-            t = hn::Load(df, p.t);
-            tExit = hn::Load(df, p.tExit);
-            horizontal = hn::Load(df, p.horizontal);
-            ox = hn::Load(df, p.ox);
-            oy = hn::Load(df, p.oy);
-            oz = hn::Load(df, p.oz);
-            dx = hn::Load(df, p.dx);
-            dy = hn::Load(df, p.dy);
-            dz = hn::Load(df, p.dz);
-            steps = hn::Load(di, p.steps);
-            fetches = hn::Load(di, p.fetches);
-        };
-        reload();
-        if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
-        for (;;) {
-            steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
-            fetches = hn::Add(fetches, hn::IfThenElseZero(act, oneI));
-            // p = ray.at(t); the map's texel there (ConeMap::at, clamp mode)
-            const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
-            const VF pz = hn::Add(oz, hn::Mul(t, dz));
-            const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(px)), zeroI), lastX);
-            const VI iy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(py)), zeroI), lastY);
-            const VI texel = hn::ShiftLeft<1>(hn::Add(hn::Mul(iy, width), ix));
-            const VF a = hn::GatherIndex(df, cones, texel);
-            const VF c = hn::GatherIndex(df, cones, hn::Add(texel, oneI));
-            // coneStep where the position is in the frustum and above the floor, else -∞
-            const VF room = hn::Mul(c, hn::Sub(pz, a));
-            const VF closing = hn::Sub(horizontal, hn::Mul(c, dz));
-            const VF opening = hn::IfThenElse(hn::Ge(room, zero), inf, zero);
-            const VF cone = hn::IfThenElse(hn::Le(closing, zero), opening, room / closing);
-            const MF inFrustum = hn::And(hn::Ge(pz, a), hn::Gt(pz, zero));
-            const VF dt = hn::IfThenElse(inFrustum, cone, hn::Set(df, -kInfinity));
-            const MI stepping = hn::And(act, hn::RebindMask(di, hn::Ge(dt, stall)));
-            const VF stepped = hn::Add(t, dt);
-            const MI leaves = hn::And(stepping, hn::RebindMask(di, hn::Ge(stepped, tExit)));
-            const MI tests = hn::AndNot(stepping, act);
+        r.steps = hn::Add(r.steps, hn::IfThenElseZero(act, oneI));
+        r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(act, oneI));
+        // p = ray.at(t); the map's texel there (ConeMap::at, clamp mode)
+        const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
+        const VF pz = hn::Add(oz, hn::Mul(t, dz));
+        const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(px)), zeroI), lastX);
+        const VI iy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(py)), zeroI), lastY);
+        const VI texel = hn::ShiftLeft<1>(hn::Add(hn::Mul(iy, width), ix));
+        const VF a = hn::GatherIndex(df, cones, texel);
+        const VF c = hn::GatherIndex(df, cones, hn::Add(texel, oneI));
+        // coneStep where the position is in the frustum and above the floor, else -∞
+        const VF room = hn::Mul(c, hn::Sub(pz, a));
+        const VF closing = hn::Sub(r.horizontal, hn::Mul(c, dz));
+        const VF opening = hn::IfThenElse(hn::Ge(room, zero), inf, zero);
+        const VF cone = hn::IfThenElse(hn::Le(closing, zero), opening, room / closing);
+        const MF inFrustum = hn::And(hn::Ge(pz, a), hn::Gt(pz, zero));
+        const VF dt = hn::IfThenElse(inFrustum, cone, hn::Set(df, -kInfinity));
+        const MI stepping = hn::And(act, hn::RebindMask(di, hn::Ge(dt, stall)));
+        const VF stepped = hn::Add(t, dt);
+        const MI leaves = hn::And(stepping, hn::RebindMask(di, hn::Ge(stepped, tExit)));
+        const MI tests = hn::AndNot(stepping, act);
 
-            VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
-            MI candidate = hn::AndNot(act, act), cellExit = candidate;
-            VI ci = zeroI, cj = zeroI;
-            VF to = t;
-            if (!hn::AllFalse(di, tests)) {
-                // The exact test of the cell the ray is in, from t to where it leaves it.
-                cellAt(t, px, py, ox, oy, dx, dy, tExit, ci, cj, to);
-                ci = hn::IfThenElse(tests, ci, hn::Set(di, -1));  // others: a cell in the array
-                cj = hn::IfThenElse(tests, cj, hn::Set(di, -1));
-                fetches = hn::Add(fetches, hn::IfThenElseZero(tests, fourI));
-                const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
-                const MF misses = cell_test::SegmentMissesCell(
-                    df, heights, offset, stride, hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
-                    {ox, oy, oz, dx, dy, dz}, t, to);
-                // A miss gives th = ∞, still a hit when to = ∞: the scalar test decides there.
-                candidate =
-                    hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(to, inf))), tests);
-                cellExit = hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)));
-                tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
-            }
-            const MI capped = hn::And(act, hn::Eq(steps, maxSteps));
-            const MI mayEnd = hn::Or(hn::Or(leaves, candidate), hn::Or(cellExit, capped));
-            if (hn::AllFalse(di, mayEnd)) {
-                t = tNext;
-                continue;
-            }
+        VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
+        MI candidate = hn::AndNot(act, act), cellExit = candidate;
+        VI ci = zeroI, cj = zeroI;
+        VF to = t;
+        if (!hn::AllFalse(di, tests)) {
+            // The exact test of the cell the ray is in, from t to where it leaves it.
+            cellAt(t, px, py, ox, oy, dx, dy, tExit, ci, cj, to);
+            ci = hn::IfThenElse(tests, ci, hn::Set(di, -1));  // others: a cell in the array
+            cj = hn::IfThenElse(tests, cj, hn::Set(di, -1));
+            r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(tests, fourI));
+            const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
+            const MF misses = cell_test::SegmentMissesCell(
+                df, heights, offset, stride, hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
+                {ox, oy, oz, dx, dy, dz}, t, to);
+            // A miss gives th = ∞, still a hit when to = ∞: the scalar test decides there.
+            candidate = hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(to, inf))), tests);
+            cellExit = hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)));
+            tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
+        }
+        const MI capped = hn::And(act, hn::Eq(r.steps, maxSteps));
+        const MI mayEnd = hn::Or(hn::Or(leaves, candidate), hn::Or(cellExit, capped));
+        if (hn::AllFalse(di, mayEnd)) {
+            r.t = tNext;
+            return true;
+        }
 
-            // Lanes that may end here, one by one (safeStepMarch's order); p.t: where each goes on.
-            hn::Store(tNext, df, p.t);
-            hn::Store(steps, di, p.steps);
-            hn::Store(fetches, di, p.fetches);
-            hn::Store(to, df, p.to);
-            hn::Store(hn::VecFromMask(di, leaves), di, p.leaves);
-            hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
-            hn::Store(hn::VecFromMask(di, cellExit), di, p.cellExit);
-            hn::Store(ci, di, p.ci);
-            hn::Store(cj, di, p.cj);
-            hn::Store(t, df, p.tStart);
-            bool any = false;
-            for (size_t k = 0; k < n; ++k) {
-                if (p.active[k] == 0) continue;
-                const size_t i = p.index[k];
-                const Ray& ray = rays[i];
-                bool finished = false;
-                if (p.leaves[k]) {
+        // Lanes that may end here, one by one (safeStepMarch's order); p.t: where each goes on.
+        hn::Store(tNext, df, p.t);
+        hn::Store(r.steps, di, p.steps);
+        hn::Store(r.fetches, di, p.fetches);
+        hn::Store(to, df, p.to);
+        hn::Store(hn::VecFromMask(di, leaves), di, p.leaves);
+        hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
+        hn::Store(hn::VecFromMask(di, cellExit), di, p.cellExit);
+        hn::Store(ci, di, p.ci);
+        hn::Store(cj, di, p.cj);
+        hn::Store(t, df, p.tStart);
+        bool any = false;
+        for (size_t k = 0; k < n; ++k) {
+            if (p.active[k] == 0) continue;
+            const size_t i = p.index[k];
+            const Ray& ray = rays[i];
+            bool finished = false;
+            if (p.leaves[k]) {
+                const Hit hit = laneHit(p, k);
+                hits[i] =
+                    exitsThroughFloor(s, ray, p.tExit[k]) ? hitAt(ray, p.tExit[k], hit) : hit;
+                finished = true;
+            } else {
+                if (p.candidate[k]) {
+                    const float th = firstHitInCell(s.cellPlanes(p.ci[k], p.cj[k]), ray, p.ci[k],
+                                                    p.cj[k], p.tStart[k], p.to[k]);
+                    if (th <= p.to[k]) {
+                        hits[i] = hitAt(ray, th, laneHit(p, k));
+                        finished = true;
+                    }
+                }
+                if (!finished && p.cellExit[k]) {
                     const Hit hit = laneHit(p, k);
                     hits[i] = exitsThroughFloor(s, ray, p.tExit[k]) ? hitAt(ray, p.tExit[k], hit)
                                                                     : hit;
                     finished = true;
-                } else {
-                    if (p.candidate[k]) {
-                        const float th =
-                            firstHitInCell(s.cellPlanes(p.ci[k], p.cj[k]), ray, p.ci[k], p.cj[k],
-                                           p.tStart[k], p.to[k]);
-                        if (th <= p.to[k]) {
-                            hits[i] = hitAt(ray, th, laneHit(p, k));
-                            finished = true;
-                        }
-                    }
-                    if (!finished && p.cellExit[k]) {
-                        const Hit hit = laneHit(p, k);
-                        hits[i] = exitsThroughFloor(s, ray, p.tExit[k])
-                                      ? hitAt(ray, p.tExit[k], hit)
-                                      : hit;
-                        finished = true;
-                    }
-                    if (!finished && p.steps[k] >= limits.maxSteps) {
-                        // capped: the last position, never past the first hit
-                        hits[i] = hitAt(ray, p.t[k], laneHit(p, k));
-                        finished = true;
-                    }
                 }
-                if (finished) fill(p, k);
-                any = any || p.active[k] != 0;
+                if (!finished && p.steps[k] >= limits.maxSteps) {
+                    // capped: the last position, never past the first hit
+                    hits[i] = hitAt(ray, p.t[k], laneHit(p, k));
+                    finished = true;
+                }
             }
-            if (!any) return;
-            reload();
+            if (finished) fill(p, k);
+            any = any || p.active[k] != 0;
         }
+        if (any) load(p, r);
+        return any;
     }
 
+    // safeStepMarch's loop until the batch is done, in two packets taking turns: each step's
+    // gathers wait on the previous step's, so a second packet keeps the memory busy meanwhile.
+    void run(Packet (&packets)[2]) {
+        const DI di;
+        Lanes lanes[2];
+        bool live[2];
+        for (int k = 0; k < 2; ++k) {
+            load(packets[k], lanes[k]);
+            live[k] = !hn::AllFalse(di, lanes[k].act);
+        }
+        while (live[0] || live[1]) {
+            if (live[0]) live[0] = step(packets[0], lanes[0]);
+            if (live[1]) live[1] = step(packets[1], lanes[1]);
+        }
+    }
 };
 
 }  // namespace cone_march
@@ -260,12 +277,14 @@ void ConeMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits lim
     using namespace cone_march;
     March march{surface, &map.texels().data()->x, surface.paddedHeights().data(), limits, rays,
                 hits};
-    Packet p{};
-    for (size_t k = 0; k < kLanes; ++k) {
-        March::park(p, k);
-        if (k < hn::Lanes(DF())) march.fill(p, k);
+    Packet packets[2]{};
+    for (Packet& p : packets) {
+        for (size_t k = 0; k < kLanes; ++k) {
+            March::park(p, k);
+            if (k < hn::Lanes(DF())) march.fill(p, k);
+        }
     }
-    march.run(p);
+    march.run(packets);
 }
 
 }  // namespace HWY_NAMESPACE
