@@ -1,3 +1,4 @@
+#include <relief/core/huge_pages.h>
 #include <relief/surface/surface.h>
 
 #include <algorithm>
@@ -27,6 +28,7 @@ Surface::Surface(std::shared_ptr<const Heightfield> heightfield, float depth, Ed
             m_maxZ = std::max(m_maxZ, z);
         }
     }
+    adviseHugePages(m_padded.data(), m_padded.size() * sizeof(float));
 }
 
 float Surface::heightAt(float x, float y) const {

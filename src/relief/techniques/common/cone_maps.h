@@ -59,6 +59,7 @@
 // DOWN to the code grid k / (2^bits − 1): a higher apex and a narrower cone are both subsets of
 // the built frustum, so quantization never widens it. cMax is stored in the map's parameters.
 #include <relief/core/error.h>
+#include <relief/core/huge_pages.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/cell_intersect.h>
 #include <relief/techniques/technique.h>
@@ -81,7 +82,9 @@ struct ConeEncoding {
 class ConeMap {
 public:
     ConeMap(int width, int height, EdgeMode edge, std::vector<vec2> texels)
-        : m_width(width), m_height(height), m_edge(edge), m_texels(std::move(texels)) {}
+        : m_width(width), m_height(height), m_edge(edge), m_texels(std::move(texels)) {
+        adviseHugePages(m_texels.data(), m_texels.size() * sizeof(vec2));
+    }
 
     int width() const { return m_width; }
     int height() const { return m_height; }

@@ -1,6 +1,7 @@
 // The max pyramid as baked maps (shared by `quadtree`, `maxmip` and `quadtree-oriented`): one
 // array per level, "level0" .. "level<top>", row-major, one float per node (max_pyramid.h). The GL
 // backend reads the same arrays (gl/shader_interface.h), so this is also the GPU layout.
+#include <relief/core/huge_pages.h>
 #include <relief/techniques/common/max_pyramid.h>
 #include <relief/techniques/technique.h>
 
@@ -27,6 +28,7 @@ MaxPyramid::MaxPyramid(const PyramidLayout& layout) : m_layout(layout) {
     for (int level = 0; level < layout.levels; ++level)
         total += Index::size(layout.widthAt(level), layout.heightAt(level));
     m_values.assign(total, 0.0f);
+    adviseHugePages(m_values.data(), bytes());  // before the build writes it: no copy
     size_t offset = 0;
     for (int level = 0; level < layout.levels; ++level) {
         m_levels[size_t(level)] = {m_values.data() + offset, Index::of(layout.widthAt(level))};

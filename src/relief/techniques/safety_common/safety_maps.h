@@ -14,6 +14,7 @@
 // Class c has a local frame (a, b): a grows along the class's direction, b across it; for x±
 // the b axis is world Y, for y± it is world X (never mirrored), so a texel's local position is
 // (a0, b0) = (±i, j) or (±j, i). Texel τ's segment s_τ is {a = a0, b ∈ [b0 − ½, b0 + ½]}.
+#include <relief/core/huge_pages.h>
 #include <relief/io/map_file.h>
 #include <relief/surface/surface.h>
 
@@ -92,6 +93,14 @@ struct CylinderConeMap {
                       size_t(i)];
     }
 };
+
+// The tracers' gathers on 2 MiB pages where the kernel allows (core/huge_pages.h).
+inline void adviseHugePages(const DistanceMap& map) {
+    relief::adviseHugePages(map.r.data(), map.r.size() * sizeof(uint16_t));
+}
+inline void adviseHugePages(const CylinderConeMap& map) {
+    relief::adviseHugePages(map.texels.data(), map.texels.size() * sizeof(ConeTexel));
+}
 
 // ---- Builders (parallel over rows; wrap-around in repeat mode) ----
 

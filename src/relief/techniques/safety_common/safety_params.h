@@ -82,11 +82,14 @@ Result<std::pair<std::shared_ptr<const Map>, BuildOptions>> mapFor(const Techniq
         if (!baked) return baked.error();
         auto loaded = decode(*input.maps, input.surface->width(), input.surface->height());
         if (!loaded) return loaded.error();
+        adviseHugePages(*loaded);
         return std::pair{std::make_shared<const Map>(std::move(*loaded)), *baked};
     }
     const BuildOptions options = buildOptionsFrom(input.params);
     if (Status ok = checkBuildOptions(*input.surface, options); !ok) return ok.error();
-    return std::pair{std::make_shared<const Map>(build(*input.surface, options)), options};
+    Map built = build(*input.surface, options);
+    adviseHugePages(built);
+    return std::pair{std::make_shared<const Map>(std::move(built)), options};
 }
 
 }  // namespace relief::safety
