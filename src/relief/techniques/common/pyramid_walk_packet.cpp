@@ -10,6 +10,7 @@
 #define HWY_TARGET_INCLUDE "relief/techniques/common/pyramid_walk_packet.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/packet_lanes-inl.h>
@@ -174,6 +175,7 @@ struct Walk {
             hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
             hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
         const VF top = hn::Add(hn::GatherIndex(df, values, offset), slack);
+        prefetchChildren(level, nx, ny, offset);
         const VF zOut = hn::Add(oz, hn::Mul(et, dz));
         const VF cross = hn::Mul(hn::Sub(top, oz), invZ);
         const VF clamped =  // std::clamp(cross, t, et)
@@ -315,6 +317,24 @@ struct Walk {
         if (!any) return;
         reload();
         }
+    }
+
+    // The four children of each lane's node share one line of the tiled level below: it is
+    // fetched ahead, so that a descent's gather finds it in cache (each step waits on its
+    // gather's slowest lane; the prefetches only cost issue slots). Level-0 lanes: their node.
+    HWY_INLINE void prefetchChildren(VI level, VI nx, VI ny, VI offset) const {
+        const DI di;
+        const VI oneI = hn::Set(di, 1);
+        const MI atLeaf = hn::Eq(level, hn::Zero(di));
+        const VI childLevel = hn::Sub(level, hn::IfThenZeroElse(atLeaf, oneI));
+        const VI cx = hn::ShiftLeft<1>(nx), cy = hn::ShiftLeft<1>(ny);
+        const VI lastX = hn::Set(di, layout.cellsX - 1);
+        const VI tiles = hn::Add(hn::ShiftRight<2>(lastX >> childLevel), oneI);  // TiledIndex<2>
+        const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(cy), tiles), hn::ShiftRight<2>(cx));
+        const VI child = hn::Add(lookupLevel(levelOffset, childLevel), hn::ShiftLeft<4>(tile));
+        alignas(64) int32_t ahead[kLanes];
+        hn::Store(hn::IfThenElse(atLeaf, offset, child), di, ahead);
+        for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(values + ahead[k]);
     }
 
     // table[level] by lane: lookups in registers over the table's whole vectors (a handful of

@@ -6,7 +6,8 @@
 //   with -ffp-contract=off), so hit, t, position, steps and fetches are bit-identical to
 //   walkPyramid<Ascent::Parent> (quadtree's default) and <Ascent::Ancestor> (maxmip's).
 //   min/max/clamp are written as the selects std::min/max/clamp are (NaN and ±0 alike).
-// Vectorized: node max gathers, the bound (enterBelow), descent, exits, index steps, ascent.
+// Vectorized: node max gathers, the bound (enterBelow), descent, exits, index steps, ascent;
+//   each step prefetches its node's children's line (no value changes).
 // Per lane, scalar: the ray setup (makeWalkRay, startCursor; the clip is SIMD,
 //   surface/ray_feed-inl.h), the level-0 two-triangle cell test (leafHit) and the end of a ray
 //   (makeHit, the floor exit rule).
