@@ -165,15 +165,8 @@ struct Walk {
         m = hn::IfThenElse(hn::Lt(tExit, m), tExit, m);
         const VF et = hn::IfThenElse(hn::Lt(t, m), m, t);
 
-        // MaxBound::enter: the node's max (TiledIndex<2>) + slack, then enterBelow.
-        // Tiles per row: TiledIndex<2>::of(widthAt(level)), computed rather than gathered (the
-        // gather of the node's value is the walk's critical path; it should wait on no other).
-        const VI tiles = hn::Add(hn::ShiftRight<2>(hn::Sub(cellsX, oneI) >> level), oneI);
-        const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(ny), tiles), hn::ShiftRight<2>(nx));
-        const VI three = hn::Set(di, 3);
-        const VI offset = hn::Add(
-            hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
-            hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
+        // MaxBound::enter: the node's max + slack, then enterBelow.
+        const VI offset = nodeOffset(level, nx, ny);
         const VF top = hn::Add(hn::GatherIndex(df, values, offset), slack);
         prefetchChildren(level, nx, ny, offset);
         const VF zOut = hn::Add(oz, hn::Mul(et, dz));
@@ -319,19 +312,27 @@ struct Walk {
         }
     }
 
+    // Where node (nx, ny) of `level` lies in `values` (TiledIndex<2>: 4×4 nodes per 64-byte
+    // line). Tiles per row: TiledIndex<2>::of(widthAt(level)), computed rather than gathered
+    // (the gather of the node's value is the walk's critical path; it should wait on no other).
+    HWY_INLINE VI nodeOffset(VI level, VI nx, VI ny) const {
+        const DI di;
+        const VI three = hn::Set(di, 3);
+        const VI lastX = hn::Set(di, layout.cellsX - 1);
+        const VI tiles = hn::Add(hn::ShiftRight<2>(lastX >> level), hn::Set(di, 1));
+        const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(ny), tiles), hn::ShiftRight<2>(nx));
+        return hn::Add(hn::Add(lookupLevel(levelOffset, level), hn::ShiftLeft<4>(tile)),
+                       hn::Add(hn::ShiftLeft<2>(hn::And(ny, three)), hn::And(nx, three)));
+    }
+
     // The four children of each lane's node share one line of the tiled level below: it is
     // fetched ahead, so that a descent's gather finds it in cache (each step waits on its
     // gather's slowest lane; the prefetches only cost issue slots). Level-0 lanes: their node.
     HWY_INLINE void prefetchChildren(VI level, VI nx, VI ny, VI offset) const {
         const DI di;
-        const VI oneI = hn::Set(di, 1);
         const MI atLeaf = hn::Eq(level, hn::Zero(di));
-        const VI childLevel = hn::Sub(level, hn::IfThenZeroElse(atLeaf, oneI));
-        const VI cx = hn::ShiftLeft<1>(nx), cy = hn::ShiftLeft<1>(ny);
-        const VI lastX = hn::Set(di, layout.cellsX - 1);
-        const VI tiles = hn::Add(hn::ShiftRight<2>(lastX >> childLevel), oneI);  // TiledIndex<2>
-        const VI tile = hn::Add(hn::Mul(hn::ShiftRight<2>(cy), tiles), hn::ShiftRight<2>(cx));
-        const VI child = hn::Add(lookupLevel(levelOffset, childLevel), hn::ShiftLeft<4>(tile));
+        const VI childLevel = hn::Sub(level, hn::IfThenZeroElse(atLeaf, hn::Set(di, 1)));
+        const VI child = nodeOffset(childLevel, hn::ShiftLeft<1>(nx), hn::ShiftLeft<1>(ny));
         alignas(64) int32_t ahead[kLanes];
         hn::Store(hn::IfThenElse(atLeaf, offset, child), di, ahead);
         for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(values + ahead[k]);
