@@ -7,6 +7,8 @@
 //   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
 //                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact,cone,safety-cc] SOURCE...
 //   --isa: limit the packet paths' dispatch to that target (default: the best this CPU has)
+//   a row A~B: row A against row B instead of a row's packets against its scalar path (e.g.
+//   quadtree:traversal=1~quadtree); differences then count hit, t or position only
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
@@ -35,12 +37,12 @@ double seconds(const Tracer& tracer, const std::vector<Ray>& rays, std::vector<H
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-bool same(const Hit& a, const Hit& b) {
+bool same(const Hit& a, const Hit& b, bool counts) {
     const auto bits = [](float v) { return std::bit_cast<uint32_t>(v); };
     return a.hit == b.hit && bits(a.t) == bits(b.t) && bits(a.position.x) == bits(b.position.x) &&
            bits(a.position.y) == bits(b.position.y) &&
-           bits(a.position.z) == bits(b.position.z) && a.steps == b.steps &&
-           a.fetches == b.fetches;
+           bits(a.position.z) == bits(b.position.z) &&
+           (!counts || (a.steps == b.steps && a.fetches == b.fetches));
 }
 
 double median(std::vector<double> v) {
@@ -54,6 +56,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     int threads = 2, reps = 7, width = 640, height = 512;
     std::string edge = "clamp";
+    bool tiles = false;  // rays in 4×4 pixel tiles (as the Embree packets get them), not by rows
     std::vector<std::string> sources, rows = {"quadtree", "maxmip", "exact"};
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
@@ -61,6 +64,7 @@ int main(int argc, char** argv) {
         else if (a == "--reps" && k + 1 < argc) reps = std::max(1, std::atoi(argv[++k]));
         else if (a == "--size" && k + 1 < argc) std::sscanf(argv[++k], "%dx%d", &width, &height);
         else if (a == "--edge" && k + 1 < argc) edge = argv[++k];
+        else if (a == "--tiles") tiles = true;
         else if (a == "--rows" && k + 1 < argc) {
             rows.clear();
             for (std::string list = argv[++k]; !list.empty();) {
@@ -104,30 +108,51 @@ int main(int argc, char** argv) {
             return 1;
         }
         for (const std::string& row : rows) {
-        auto tracer = createTracer(row, *surface);
-        if (!tracer) {
-            std::fprintf(stderr, "%s\n", tracer.error().message.c_str());
-            return 1;
-        }
+        const size_t tilde = row.find('~');
+        // NAME[:PARAM=VALUE...], as the bench's rows
+        const auto create = [&](const std::string& spec) -> Result<std::unique_ptr<Tracer>> {
+            const size_t colon = spec.find(':');
+            std::string list = colon == std::string::npos ? "" : spec.substr(colon + 1);
+            std::replace(list.begin(), list.end(), ':', ',');
+            auto overrides = parseParamList(list);
+            if (!overrides) return overrides.error();
+            return createTracer(spec.substr(0, colon), *surface, *overrides);
+        };
+        auto tracer = create(row.substr(0, tilde));
+        auto peer = create(row.substr(tilde == std::string::npos ? 0 : tilde + 1));
+        for (const auto* made : {&tracer, &peer})
+            if (!*made) {
+                std::fprintf(stderr, "%s\n", made->error().message.c_str());
+                return 1;
+            }
         const auto* packetRow = dynamic_cast<const PacketTracer*>(tracer->get());
-        if (!packetRow) {
+        if (!packetRow && tilde == std::string::npos) {
             std::fprintf(stderr, "%s: no packet path here (RELIEF_PACKETS=0, or not a packet row)\n",
                          row.c_str());
             return 1;
         }
-        const Tracer& packets = *packetRow;
-        const Tracer& scalar = packetRow->scalarPath();
+        const Tracer& packets = **tracer;
+        const Tracer& scalar = tilde == std::string::npos ? packetRow->scalarPath() : **peer;
         for (const float elevation : {15.3f, 40.2f, 65.1f}) {
             OrbitView view;
             view.elevationDeg = elevation;
             view.distance = 1.0f;
-            const std::vector<Ray> rays = primaryRays(Camera(view, **surface, width, height));
+            std::vector<Ray> rays = primaryRays(Camera(view, **surface, width, height));
+            if (tiles) {
+                std::vector<Ray> rows = rays;
+                rays.clear();
+                for (int ty = 0; ty < height; ty += 4)
+                    for (int tx = 0; tx < width; tx += 4)
+                        for (int y = ty; y < std::min(ty + 4, height); ++y)
+                            for (int x = tx; x < std::min(tx + 4, width); ++x)
+                                rays.push_back(rows[size_t(y) * size_t(width) + size_t(x)]);
+            }
             std::vector<Hit> a(rays.size()), b(rays.size());
             seconds(scalar, rays, a);  // warm-up, and the hits to compare
             seconds(packets, rays, b);
             size_t differences = 0, hits = 0;
             for (size_t k = 0; k < rays.size(); ++k) {
-                differences += !same(a[k], b[k]);
+                differences += !same(a[k], b[k], tilde == std::string::npos);
                 hits += a[k].hit;
             }
             std::vector<double> ts, tp, ratios;
