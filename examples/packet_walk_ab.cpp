@@ -5,11 +5,15 @@
 // every hit compared bit for bit.
 //
 //   relief_packet_ab [--threads N] [--reps R] [--size WxH] [--edge clamp|repeat]
-//                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact,cone,safety-cc] SOURCE...
+//                    [--isa avx3|avx2|sse4] [--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles]
+//                    SOURCE...
 //   --isa: limit the packet paths' dispatch to that target (default: the best this CPU has)
 //   a row A~B: row A against row B instead of a row's packets against its scalar path (e.g.
 //   quadtree:traversal=1~quadtree); differences then count hit, t or position only
+//   --tiles: the rays in the Embree packets' order (4×4 pixel tiles, bench::packetOrder)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
+#include <relief/bench/presets.h>
+#include <relief/bench/timing.h>
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
 #include <relief/render/surface_source.h>
@@ -56,7 +60,7 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
     int threads = 2, reps = 7, width = 640, height = 512;
     std::string edge = "clamp";
-    bool tiles = false;  // rays in 4×4 pixel tiles (as the Embree packets get them), not by rows
+    bool tiles = false;  // rays in the Embree packets' order (bench::packetOrder), not by rows
     std::vector<std::string> sources, rows = {"quadtree", "maxmip", "exact"};
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
@@ -85,7 +89,12 @@ int main(int argc, char** argv) {
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
                              "[--edge clamp|repeat] [--isa avx3|avx2|sse4] "
-                             "[--rows quadtree,maxmip,exact,cone,safety-cc] SOURCE...\n", argv[0]);
+                             "[--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles] SOURCE...\n", argv[0]);
+        return 2;
+    }
+    if (tiles && (width % 16 != 0 || height % 16 != 0)) {
+        std::fprintf(stderr, "--tiles: the packets' order covers sizes in multiples of 16 (got %dx%d)\n",
+                     width, height);
         return 2;
     }
     const ThreadLimit limit(threads);
@@ -109,50 +118,47 @@ int main(int argc, char** argv) {
         }
         for (const std::string& row : rows) {
         const size_t tilde = row.find('~');
+        const bool pair = tilde != std::string::npos;
         // NAME[:PARAM=VALUE...], as the bench's rows
         const auto create = [&](const std::string& spec) -> Result<std::unique_ptr<Tracer>> {
-            const size_t colon = spec.find(':');
-            std::string list = colon == std::string::npos ? "" : spec.substr(colon + 1);
-            std::replace(list.begin(), list.end(), ':', ',');
-            auto overrides = parseParamList(list);
-            if (!overrides) return overrides.error();
-            return createTracer(spec.substr(0, colon), *surface, *overrides);
+            auto parsed = bench::parseRowSpec(spec);
+            if (!parsed) return parsed.error();
+            return createTracer(parsed->info->name, *surface, parsed->params);
         };
         auto tracer = create(row.substr(0, tilde));
-        auto peer = create(row.substr(tilde == std::string::npos ? 0 : tilde + 1));
-        for (const auto* made : {&tracer, &peer})
-            if (!*made) {
-                std::fprintf(stderr, "%s\n", made->error().message.c_str());
+        if (!tracer) {
+            std::fprintf(stderr, "%s\n", tracer.error().message.c_str());
+            return 1;
+        }
+        std::unique_ptr<Tracer> peer;  // row B of a pair
+        if (pair) {
+            auto made = create(row.substr(tilde + 1));
+            if (!made) {
+                std::fprintf(stderr, "%s\n", made.error().message.c_str());
                 return 1;
             }
+            peer = std::move(*made);
+        }
         const auto* packetRow = dynamic_cast<const PacketTracer*>(tracer->get());
-        if (!packetRow && tilde == std::string::npos) {
+        if (!packetRow && !pair) {
             std::fprintf(stderr, "%s: no packet path here (RELIEF_PACKETS=0, or not a packet row)\n",
                          row.c_str());
             return 1;
         }
         const Tracer& packets = **tracer;
-        const Tracer& scalar = tilde == std::string::npos ? packetRow->scalarPath() : **peer;
+        const Tracer& scalar = pair ? *peer : packetRow->scalarPath();
         for (const float elevation : {15.3f, 40.2f, 65.1f}) {
             OrbitView view;
             view.elevationDeg = elevation;
             view.distance = 1.0f;
             std::vector<Ray> rays = primaryRays(Camera(view, **surface, width, height));
-            if (tiles) {
-                std::vector<Ray> rows = rays;
-                rays.clear();
-                for (int ty = 0; ty < height; ty += 4)
-                    for (int tx = 0; tx < width; tx += 4)
-                        for (int y = ty; y < std::min(ty + 4, height); ++y)
-                            for (int x = tx; x < std::min(tx + 4, width); ++x)
-                                rays.push_back(rows[size_t(y) * size_t(width) + size_t(x)]);
-            }
+            if (tiles) rays = bench::inPacketOrder(rays, bench::packetOrder(width, height));
             std::vector<Hit> a(rays.size()), b(rays.size());
             seconds(scalar, rays, a);  // warm-up, and the hits to compare
             seconds(packets, rays, b);
             size_t differences = 0, hits = 0;
             for (size_t k = 0; k < rays.size(); ++k) {
-                differences += !same(a[k], b[k], tilde == std::string::npos);
+                differences += !same(a[k], b[k], !pair);
                 hits += a[k].hit;
             }
             std::vector<double> ts, tp, ratios;

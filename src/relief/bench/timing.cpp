@@ -48,4 +48,10 @@ std::vector<size_t> packetOrder(int w, int h) {
     return order;
 }
 
+std::vector<Ray> inPacketOrder(const std::vector<Ray>& rays, const std::vector<size_t>& order) {
+    std::vector<Ray> packed(order.size());
+    for (size_t k = 0; k < order.size(); ++k) packed[k] = rays[order[k]];
+    return packed;
+}
+
 }  // namespace relief::bench

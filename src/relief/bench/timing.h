@@ -1,6 +1,8 @@
 #pragma once
 // How the bench times and describes a run: best-of-N wall time, process CPU time, the load
 // average, the CPU model and the date, and the 4×4 packet order of Embree's rtcIntersect16.
+#include <relief/core/math.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
@@ -45,5 +47,7 @@ std::string todayUtc();       // "YYYY-MM-DD HH:MM UTC"
 // Pixel indices in 4×4 packets inside 16×16 tiles (w and h multiples of 16): 16 consecutive rays
 // are one rtcIntersect16 packet, 256 one parallel work item.
 std::vector<size_t> packetOrder(int w, int h);
+// The rays in that order: inPacketOrder(rays, order)[k] = rays[order[k]].
+std::vector<Ray> inPacketOrder(const std::vector<Ray>& rays, const std::vector<size_t>& order);
 
 }  // namespace relief::bench
