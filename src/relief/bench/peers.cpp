@@ -70,15 +70,10 @@ PeerResult EmbreePeer::run(PeerKind kind, const Camera& camera, int repeats) con
     RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);
     const bool packets = kind == PeerKind::Embree16;
     const EmbreeScene& scene = *m_scene->scene;
-    const std::vector<Ray> rays = primaryRays(camera);
+    // Both kinds, and the CPU rows (runner.cpp), trace the rays in the packets' order.
     const std::vector<size_t> order = packetOrder(camera.width(), camera.height());
-    std::vector<Ray> packed;
-    if (packets) {
-        packed.resize(rays.size());
-        for (size_t k = 0; k < order.size(); ++k) packed[k] = rays[order[k]];
-    }
-    const std::vector<Ray>& input = packets ? packed : rays;
-    std::vector<Hit> hits(rays.size());
+    const std::vector<Ray> input = inPacketOrder(primaryRays(camera), order);
+    std::vector<Hit> hits(input.size());
     PeerResult result;
     result.seconds = bestOf(repeats, [&] {
         parallelRanges(int64_t(input.size() / 256), 1, [&](int64_t begin, int64_t end) {
@@ -89,7 +84,7 @@ PeerResult EmbreePeer::run(PeerKind kind, const Camera& camera, int repeats) con
         });
     });
     result.hits = Image<Hit>(camera.width(), camera.height());
-    for (size_t k = 0; k < hits.size(); ++k) result.hits.pixels[packets ? order[k] : k] = hits[k];
+    for (size_t k = 0; k < hits.size(); ++k) result.hits.pixels[order[k]] = hits[k];
     return result;
 }
 

@@ -501,8 +501,9 @@ std::string runDescription(const BenchMeta& meta) {
     if (!meta.glDevice.empty()) s += fmt::format(" GL device: {}.", meta.glDevice);
     if (!meta.loadBefore.empty())
         s += fmt::format(" Load average before the run: {}; after: {}.", meta.loadBefore, meta.loadAfter);
-    return s + " Every row of one map and view traced the same primary rays in one run; times are the best of the "
-               "timed repeats.";
+    return s + " Every row of one map and view traced the same primary rays in one run (on the CPU, rows and "
+               "peers alike, made before the timing and in one order: 4×4 pixel tiles, as rtcIntersect16 "
+               "takes them); times are the best of the timed repeats.";
 }
 
 // Why: an HTML report whose images failed to load looks fine in a table-only glance; the page
