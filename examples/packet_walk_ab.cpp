@@ -11,11 +11,14 @@
 //   a row A~B: row A against row B instead of a row's packets against its scalar path (e.g.
 //   quadtree:traversal=1~quadtree); differences then count hit, t or position only
 //   --tiles: the rays in the Embree packets' order (4×4 pixel tiles, bench::packetOrder)
+//   --shadows: the view's shadow rays instead (as the bench's: from a light at 30° elevation
+//   toward the primary hits that face it, in that order)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
 #include <relief/bench/presets.h>
 #include <relief/bench/timing.h>
 #include <relief/core/parallel.h>
 #include <relief/render/camera.h>
+#include <relief/render/renderer.h>
 #include <relief/render/surface_source.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 #include <relief/techniques/registry.h>
@@ -61,6 +64,7 @@ int main(int argc, char** argv) {
     int threads = 2, reps = 7, width = 640, height = 512;
     std::string edge = "clamp";
     bool tiles = false;  // rays in the Embree packets' order (bench::packetOrder), not by rows
+    bool shadows = false;  // the views' shadow rays, not their primary rays
     std::vector<std::string> sources, rows = {"quadtree", "maxmip", "exact"};
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
@@ -69,6 +73,7 @@ int main(int argc, char** argv) {
         else if (a == "--size" && k + 1 < argc) std::sscanf(argv[++k], "%dx%d", &width, &height);
         else if (a == "--edge" && k + 1 < argc) edge = argv[++k];
         else if (a == "--tiles") tiles = true;
+        else if (a == "--shadows") shadows = true;
         else if (a == "--rows" && k + 1 < argc) {
             rows.clear();
             for (std::string list = argv[++k]; !list.empty();) {
@@ -89,19 +94,20 @@ int main(int argc, char** argv) {
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
                              "[--edge clamp|repeat] [--isa avx3|avx2|sse4] "
-                             "[--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles] SOURCE...\n", argv[0]);
+                             "[--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles] [--shadows] SOURCE...\n", argv[0]);
         return 2;
     }
-    if (tiles && (width % 16 != 0 || height % 16 != 0)) {
-        std::fprintf(stderr, "--tiles: the packets' order covers sizes in multiples of 16 (got %dx%d)\n",
+    if ((tiles || shadows) && (width % 16 != 0 || height % 16 != 0)) {
+        std::fprintf(stderr, "--tiles, --shadows: the packets' order covers sizes in multiples of 16 (got %dx%d)\n",
                      width, height);
         return 2;
     }
     const ThreadLimit limit(threads);
-    std::printf("packet target %s, %d threads, %dx%d rays, %d pairs, edge %s\n\n",
-                packetWalkTarget(), threads, width, height, reps, edge.c_str());
+    std::printf("packet target %s, %d threads, %dx%d %s, %d pairs, edge %s\n\n",
+                packetWalkTarget(), threads, width, height,
+                shadows ? "views' shadow rays" : "primary rays", reps, edge.c_str());
     std::printf("| row | map | elevation | scalar Mrays/s | packets Mrays/s | speed-up (median, min–max of "
-                "pairs) | hits | differences |\n|---|---|---|---|---|---|---|---|\n");
+                "pairs) | hits | differences | steps/ray | fetches/ray |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for (const std::string& source : sources) {
         SurfaceOptions options;
         options.source = source;
@@ -152,14 +158,27 @@ int main(int argc, char** argv) {
             view.elevationDeg = elevation;
             view.distance = 1.0f;
             std::vector<Ray> rays = primaryRays(Camera(view, **surface, width, height));
-            if (tiles) rays = bench::inPacketOrder(rays, bench::packetOrder(width, height));
+            if (shadows) {
+                std::vector<Hit> primary(rays.size());
+                traceAll(scalar, rays, primary);
+                const vec3 light = bench::towardsLight(30.0f);
+                rays = raysFromTheLight(**surface,
+                                        bench::shadowPoints(**surface, primary, width, height, light),
+                                        light)
+                           .rays;
+            } else if (tiles) {
+                rays = bench::inPacketOrder(rays, bench::packetOrder(width, height));
+            }
             std::vector<Hit> a(rays.size()), b(rays.size());
             seconds(scalar, rays, a);  // warm-up, and the hits to compare
             seconds(packets, rays, b);
             size_t differences = 0, hits = 0;
+            double steps = 0, fetches = 0;
             for (size_t k = 0; k < rays.size(); ++k) {
                 differences += !same(a[k], b[k], !pair);
                 hits += a[k].hit;
+                steps += b[k].steps;
+                fetches += b[k].fetches;
             }
             std::vector<double> ts, tp, ratios;
             for (int r = 0; r < reps; ++r) {
@@ -168,10 +187,11 @@ int main(int argc, char** argv) {
                 ratios.push_back(ts.back() / tp.back());
             }
             const double n = double(rays.size()) * 1e-6;
-            std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu |\n",
+            std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu | %.1f | %.1f |\n",
                         row.c_str(), source.c_str(), elevation, n / median(ts), n / median(tp),
                         median(ratios), *std::min_element(ratios.begin(), ratios.end()),
-                        *std::max_element(ratios.begin(), ratios.end()), hits, differences);
+                        *std::max_element(ratios.begin(), ratios.end()), hits, differences,
+                        steps / double(rays.size()), fetches / double(rays.size()));
             std::fflush(stdout);
         }
         }

@@ -128,9 +128,17 @@ TEST(EmbreeOcclusion, ShadowRaysFromTheLightAgreeWithExact) {
         std::vector<Hit> hits(light.rays.size());
         traceAll(*exact, light.rays, hits);
         const std::vector<uint8_t> exactLit = litFromHits(light, hits);
-        std::vector<Ray> segmentsToPoints = light.rays;
-        for (size_t k = 0; k < segmentsToPoints.size(); ++k)
-            segmentsToPoints[k].tMax = std::max(0.0f, light.lengths[k] - kWrongHitDistance);
+        // The rays are the segments that end kWrongHitDistance before their points; the whole
+        // rays (to the floor) give the same verdicts.
+        std::vector<Ray> wholeRays = light.rays;
+        for (size_t k = 0; k < wholeRays.size(); ++k) {
+            ASSERT_EQ(light.rays[k].tMax, std::max(0.0f, light.lengths[k] - kWrongHitDistance));
+            wholeRays[k].tMax = kInfinity;
+        }
+        std::vector<Hit> wholeHits(wholeRays.size());
+        traceAll(*exact, wholeRays, wholeHits);
+        ASSERT_EQ(litFromHits(light, wholeHits), exactLit);
+        const std::vector<Ray>& segmentsToPoints = light.rays;
         std::vector<uint8_t> one(points.size()), sixteen(points.size());
         (*scene)->occluded1(segmentsToPoints, one);
         (*scene)->occluded16(segmentsToPoints, sixteen);

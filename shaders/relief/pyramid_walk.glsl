@@ -211,7 +211,7 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D orie
     ReliefWalkRay r = ReliefWalkRay(o, d, vec3(1.0) / d, d.x > 0.0 ? 1 : (d.x < 0.0 ? -1 : 0),
                                     d.y > 0.0 ? 1 : (d.y < 0.0 ? -1 : 0), span.x, span.y,
                                     d.x > 0.0 ? -1 : 0, d.y > 0.0 ? -1 : 0, kWalkSlack * extent);
-    // The start cursor: the top node over the entry cell.
+    // The start cursor: the entry cell, at the root.
     vec3 entry = o + span.x * d;
     int ci = reliefClampCellX(int(floor(entry.x - 0.5)), p);
     int cj = reliefClampCellY(int(floor(entry.y - 0.5)), p);
@@ -225,6 +225,23 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D orie
     } else {
         c.px = ci - tree.firstCell;
         c.py = cj - tree.firstCell;
+    }
+    // Below the root (pyramid_walk.h, startCursor): unless the walk is the paper's Algorithm 1,
+    // it starts at the smallest node holding the cells where the ray enters and leaves the box.
+    if (ascent != kAscentNone) {
+        vec3 leave = o + span.y * d;
+        // one cell further along the ray: the position may have rounded back over an edge
+        int ei = reliefClampCellX(int(floor(leave.x - 0.5)), p) + r.stepX;
+        int ej = reliefClampCellY(int(floor(leave.y - 0.5)), p) + r.stepY;
+        int ex = clamp(ei - tree.firstCell, 0, tree.cellsX - 1);
+        int ey = clamp(ej - tree.firstCell, 0, tree.cellsY - 1);
+        bool sameTile = true;
+        if (tree.repeat) {
+            ex = reliefWrapIndex(ei, tree.cellsX);
+            ey = reliefWrapIndex(ej, tree.cellsY);
+            sameTile = ei - ex == c.baseX && ej - ey == c.baseY;
+        }
+        if (sameTile) c.level = min(c.level, reliefBitWidth((c.px ^ ex) | (c.py ^ ey)));
     }
     int cap = p.maxSteps > 0 ? p.maxSteps : kReliefWalkGuard;
     int steps = 0;

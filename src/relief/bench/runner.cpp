@@ -317,24 +317,16 @@ private:
     // StudySpec::shadowElevation: the reference's primary hits that face the light, in the 4×4
     // tiles of the Embree packets (coherent shadow rays for every row and peer), and whether the
     // reference finds each lit (traced from the light, as every row's shadow test is). With
-    // shadowTiming, the rays themselves, and their segments up to the point for Embree's
-    // occlusion queries (litFromHits' verdict as an any-hit query).
+    // shadowTiming, the rays themselves: segments that end before their points, searched whole
+    // by the rows (first hit) and by Embree's occlusion queries (any hit; litFromHits' verdict).
     void prepareShadows(const Surface& surface, const Camera& camera, const Image<Hit>& referenceHits,
                         const Tracer& reference) {
-        const float e = glm::radians(m_config.shadowElevation), a = glm::radians(kShadowLightAzimuth);
-        m_towardsLight = vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
-        m_shadowPoints.clear();
-        for (size_t pixel : packetOrder(camera.width(), camera.height())) {
-            const Hit& hit = referenceHits.pixels[pixel];
-            if (hit.hit && glm::dot(surface.normalAt(hit.position), m_towardsLight) > 0.0f)
-                m_shadowPoints.push_back(hit.position);
-        }
+        m_towardsLight = towardsLight(m_config.shadowElevation);
+        m_shadowPoints = shadowPoints(surface, referenceHits.pixels, camera.width(), camera.height(),
+                                      m_towardsLight);
         m_referenceLit = litFromTheLight(surface, m_shadowPoints, reference, m_towardsLight);
         if (!m_config.shadowTiming) return;
         m_lightRays = raysFromTheLight(surface, m_shadowPoints, m_towardsLight);
-        m_occlusionRays = m_lightRays.rays;
-        for (size_t k = 0; k < m_occlusionRays.size(); ++k)
-            m_occlusionRays[k].tMax = std::max(0.0f, m_lightRays.lengths[k] - kWrongHitDistance);
     }
 
     double shadowWrongRate(std::span<const uint8_t> lit, size_t pixels) const {
@@ -516,7 +508,7 @@ private:
             measurePeer(r, embree.run(peer.kind, camera, m_config.repeats), reference);
             r.buildSeconds = embree.buildSeconds();
             if (m_config.shadowElevation > 0.0f && m_config.shadowTiming) {
-                const OcclusionResult shadows = embree.occluded(peer.kind, m_occlusionRays, m_config.repeats);
+                const OcclusionResult shadows = embree.occluded(peer.kind, m_lightRays.rays, m_config.repeats);
                 std::vector<uint8_t> lit(shadows.occluded.size());
                 for (size_t k = 0; k < lit.size(); ++k) lit[k] = !shadows.occluded[k];
                 r.shadowMraysPerSecond = double(lit.size()) / shadows.seconds / 1e6;
@@ -604,7 +596,6 @@ private:
     std::vector<vec3> m_shadowPoints;    // the current view's shadow test points
     std::vector<uint8_t> m_referenceLit;  // the reference's verdict on each
     RaysFromTheLight m_lightRays;          // shadowTiming: the rows' shadow rays
-    std::vector<Ray> m_occlusionRays;      // the same rays ending before their points, for Embree
     int64_t m_mapSamples = 0;
 };
 

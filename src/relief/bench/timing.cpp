@@ -1,4 +1,5 @@
 #include <relief/bench/timing.h>
+#include <relief/techniques/technique.h>
 
 #include <ctime>
 #include <fstream>
@@ -52,6 +53,22 @@ std::vector<Ray> inPacketOrder(const std::vector<Ray>& rays, const std::vector<s
     std::vector<Ray> packed(order.size());
     for (size_t k = 0; k < order.size(); ++k) packed[k] = rays[order[k]];
     return packed;
+}
+
+vec3 towardsLight(float elevationDeg) {
+    const float e = glm::radians(elevationDeg), a = glm::radians(kShadowLightAzimuth);
+    return vec3(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
+}
+
+std::vector<vec3> shadowPoints(const Surface& surface, std::span<const Hit> pixels, int w, int h,
+                               const vec3& towardsLight) {
+    std::vector<vec3> points;
+    for (size_t pixel : packetOrder(w, h)) {
+        const Hit& hit = pixels[pixel];
+        if (hit.hit && glm::dot(surface.normalAt(hit.position), towardsLight) > 0.0f)
+            points.push_back(hit.position);
+    }
+    return points;
 }
 
 }  // namespace relief::bench

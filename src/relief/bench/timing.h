@@ -1,7 +1,9 @@
 #pragma once
 // How the bench times and describes a run: best-of-N wall time, process CPU time, the load
-// average, the CPU model and the date, and the 4×4 packet order of Embree's rtcIntersect16.
+// average, the CPU model and the date, the 4×4 packet order of Embree's rtcIntersect16, and the
+// shadow rays' points.
 #include <relief/core/math.h>
+#include <relief/surface/surface.h>
 
 #include <algorithm>
 #include <chrono>
@@ -49,5 +51,12 @@ std::string todayUtc();       // "YYYY-MM-DD HH:MM UTC"
 std::vector<size_t> packetOrder(int w, int h);
 // The rays in that order: inPacketOrder(rays, order)[k] = rays[order[k]].
 std::vector<Ray> inPacketOrder(const std::vector<Ray>& rays, const std::vector<size_t>& order);
+
+// The unit vector toward StudySpec::shadowElevation's light (azimuth kShadowLightAzimuth).
+vec3 towardsLight(float elevationDeg);
+// The shadow rays' points: the primary hits (one per pixel, w×h by rows) whose normals face the
+// light, in packetOrder (coherent shadow rays for every row and peer).
+std::vector<vec3> shadowPoints(const Surface& surface, std::span<const Hit> pixels, int w, int h,
+                               const vec3& towardsLight);
 
 }  // namespace relief::bench

@@ -188,7 +188,8 @@ RaysFromTheLight raysFromTheLight(const Surface& surface, std::span<const vec3> 
     for (const vec3& point : points) {
         const vec3 p = liftedOffS(surface, point);
         const float length = towardsLight.z > 0.0f ? std::max(0.0f, (top - p.z) / towardsLight.z) : 0.0f;
-        light.rays.push_back(Ray{p + length * towardsLight, -towardsLight, kInfinity});
+        light.rays.push_back(Ray{p + length * towardsLight, -towardsLight,
+                                 std::max(0.0f, length - kWrongHitDistance)});
         light.lengths.push_back(length);
     }
     return light;

@@ -54,8 +54,10 @@ int64_t renderPeakBytes(int64_t pixels, bool shadows);
 std::vector<uint8_t> litFromTheLight(const Surface& surface, std::span<const vec3> points, const Tracer& tracer,
                                      const vec3& towardsLight);
 // litFromTheLight in two halves, for timing the shadow rays alone (the bench against Embree's
-// occlusion queries): the rays from the light (tMax infinite) with the length from each ray's
-// origin to its lifted point, and the verdict from their hits.
+// occlusion queries): the rays from the light with the length from each ray's origin to its
+// lifted point, and the verdict from their hits. Each ray ends (tMax) kWrongHitDistance before
+// its point: a first hit beyond that reads as lit whether it is reported or not, so the segment
+// is all a tracer needs to search, the same segment Embree's occlusion query gets.
 struct RaysFromTheLight {
     std::vector<Ray> rays;
     std::vector<float> lengths;

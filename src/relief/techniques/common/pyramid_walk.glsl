@@ -81,18 +81,36 @@ float boundaryT(int edgeCell, float origin, float inverse) {
     return t;
 }
 
-WalkCursor startCursor(PyramidLayout pyramid, WalkRay r) {
-    const vec3 entry = at(r, r.tEnter);
-    const int ci = cellOfX(entry.x), cj = cellOfY(entry.y);
-    WalkCursor c = WalkCursor(r.tEnter, topLevel(pyramid), 0, 0, pyramid.firstCell, pyramid.firstCell);
+// startCell and startCursor (pyramid_walk.h): the cell at t, one further along the ray where
+// `ahead`; the root or the smallest node over the cells where the ray enters and leaves the box.
+struct StartCell {
+    int px, py, baseX, baseY;
+};
+StartCell startCell(PyramidLayout pyramid, WalkRay r, float t, bool ahead) {
+    const vec3 p = at(r, t);
+    int ci = cellOfX(p.x), cj = cellOfY(p.y);
+    if (ahead) {
+        ci += r.stepX;
+        cj += r.stepY;
+    }
     if (pyramid.repeat) {
-        c.px = wrapIndex(ci, pyramid.cellsX);  // floorMod (GLSL's % is undefined below 0)
-        c.py = wrapIndex(cj, pyramid.cellsY);
-        c.baseX = ci - c.px;
-        c.baseY = cj - c.py;
-    } else {
-        c.px = ci - pyramid.firstCell;
-        c.py = cj - pyramid.firstCell;
+        const int px = wrapIndex(ci, pyramid.cellsX);  // floorMod (GLSL's % is undefined below 0)
+        const int py = wrapIndex(cj, pyramid.cellsY);
+        return StartCell(px, py, ci - px, cj - py);
+    }
+    return StartCell(clamp(ci - pyramid.firstCell, 0, pyramid.cellsX - 1),
+                     clamp(cj - pyramid.firstCell, 0, pyramid.cellsY - 1), pyramid.firstCell,
+                     pyramid.firstCell);
+}
+
+WalkCursor startCursor(PyramidLayout pyramid, WalkRay r, bool fromRoot) {
+    const StartCell entry = startCell(pyramid, r, r.tEnter, false);
+    WalkCursor c = WalkCursor(r.tEnter, topLevel(pyramid), entry.px, entry.py, entry.baseX,
+                              entry.baseY);
+    if (!fromRoot) {
+        const StartCell leave = startCell(pyramid, r, r.tExit, true);
+        if (leave.baseX == entry.baseX && leave.baseY == entry.baseY)
+            c.level = min(c.level, findMSB((entry.px ^ leave.px) | (entry.py ^ leave.py)) + 1);
     }
     return c;
 }
@@ -234,7 +252,7 @@ Hit walkPyramid(int ascent, Ray ray, WalkLimits limits) {
     if (empty(span)) return noHit();
     const PyramidLayout pyramid = pyramidLayout();
     const WalkRay r = makeWalkRay(ray, span);
-    WalkCursor c = startCursor(pyramid, r);
+    WalkCursor c = startCursor(pyramid, r, ascent == kAscentNone);
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : kIntMax;
     int steps = 0, fetches = 0;
     for (int guard = 0; guard < (1 << 26); ++guard) {

@@ -47,6 +47,7 @@ enum class Ascent {
 struct WalkLimits {
     int maxSteps = 0;         // 0 = none; at the cap the walk reports a hit at the cursor
     bool boxSurface = false;  // reaching a level-0 node is a hit (always so over texel boxes)
+    bool fromRoot = false;    // start at the root (always so for Ascent::None): startCursor
 };
 
 // Per-ray constants.
@@ -151,26 +152,50 @@ inline void updateExits(const PyramidLayout& layout, const WalkRay& r, WalkCurso
                                 r.o.y, r.invY);
 }
 
-inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, const WalkRay& r) {
-    const vec3 entry = r.at(r.tEnter);
-    int ci = s.cellOfX(entry.x), cj = s.cellOfY(entry.y);
-    if (layout.texels()) {  // the texel holding the entry (as firstTexelBoxHit finds it)
-        ci = int(std::floor(entry.x));
-        cj = int(std::floor(entry.y));
-        if (!layout.repeat) {
-            ci = std::clamp(ci, 0, layout.cellsX - 1);
-            cj = std::clamp(cj, 0, layout.cellsY - 1);
-        }
+// The cell (pyramid index per axis, and its tile's base) that holds the point at t, as the walk
+// starts in it, from the position: so at the ray's ends only (on the box's faces, or at tMax),
+// and one cell further along the ray (`ahead`) where the position may have rounded back over an
+// edge that the walk, deciding in t, has crossed.
+struct StartCell {
+    int px, py, baseX, baseY;
+};
+inline StartCell startCell(const Surface& s, const PyramidLayout& layout, const WalkRay& r, float t,
+                           bool ahead) {
+    const vec3 at = r.at(t);
+    int ci = s.cellOfX(at.x), cj = s.cellOfY(at.y);
+    if (layout.texels()) {  // the texel holding the point (as firstTexelBoxHit finds the entry)
+        ci = int(std::floor(at.x));
+        cj = int(std::floor(at.y));
     }
-    WalkCursor c{r.tEnter, layout.topLevel(), 0, 0, layout.firstCell, layout.firstCell, 0, 0};
+    if (ahead) {
+        ci += r.stepX;
+        cj += r.stepY;
+    }
     if (layout.repeat) {
-        c.px = floorMod(ci, layout.cellsX);
-        c.py = floorMod(cj, layout.cellsY);
-        c.baseX = ci - c.px;
-        c.baseY = cj - c.py;
-    } else {
-        c.px = ci - layout.firstCell;
-        c.py = cj - layout.firstCell;
+        const int px = floorMod(ci, layout.cellsX), py = floorMod(cj, layout.cellsY);
+        return {px, py, ci - px, cj - py};
+    }
+    return {std::clamp(ci - layout.firstCell, 0, layout.cellsX - 1),
+            std::clamp(cj - layout.firstCell, 0, layout.cellsY - 1), layout.firstCell,
+            layout.firstCell};
+}
+
+// The walk starts at the entry cell, at the root (`fromRoot`: Schroders & van Gulik's Algorithm
+// 1, which never goes up) or at the smallest node that holds the cells where the ray enters and
+// leaves the box. Above that node the root's walk only descends (the node holds the ray's whole
+// footprint, so no ancestor's test can do more than it does) or misses (then so does the node's
+// own test, its max being no higher): the walk from there on is the same, less those descents,
+// and finds the same hits. A short ray (a shadow ray from the box's top to a point, a steep
+// view) skips most of the pyramid's height this way.
+inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout, const WalkRay& r,
+                              bool fromRoot) {
+    const StartCell entry = startCell(s, layout, r, r.tEnter, false);
+    WalkCursor c{r.tEnter, layout.topLevel(), entry.px, entry.py, entry.baseX, entry.baseY, 0, 0};
+    if (!fromRoot) {
+        const StartCell exit = startCell(s, layout, r, r.tExit, true);
+        if (exit.baseX == entry.baseX && exit.baseY == entry.baseY)
+            c.level = std::min(c.level, int(std::bit_width(unsigned((entry.px ^ exit.px) |
+                                                                    (entry.py ^ exit.py)))));
     }
     updateExits(layout, r, c, true, true);
     return c;
@@ -373,7 +398,7 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
     const WalkRay r = makeWalkRay(ray, span, s, layout);
     if (layout.texels() && r.o.z + r.tEnter * r.d.z <= floorTolerance(r.o.z, r.depth))
         return makeHit(ray, r.tEnter, 0, 0);  // entering through the floor, as firstTexelBoxHit
-    WalkCursor c = startCursor(s, layout, r);
+    WalkCursor c = startCursor(s, layout, r, limits.fromRoot || kAscent == Ascent::None);
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : std::numeric_limits<int>::max();
     int steps = 0, fetches = 0;
     for (;;) {

@@ -8,6 +8,7 @@
 #include <support/packet_test_support.h>
 #include <support/walk_test_support.h>
 
+#include <bit>
 #include <cstdio>
 
 namespace relief {
@@ -36,6 +37,53 @@ void compare(const std::shared_ptr<const Surface>& surface, const std::vector<Ra
                                                            {});
             },
             rays, what + (ascent == Ascent::Parent ? " parent" : " ancestor"), counts);
+}
+
+// startCursor's claim: below the root (the smallest node over the ray's footprint) the walk finds
+// the root's hits bit for bit, in no more steps, over cells and over texel boxes; and in fewer
+// (short rays: steep ones, segments such as shadow rays that end before their points).
+TEST(PyramidWalk, StartBelowTheRootSameHitsNoMoreSteps) {
+    size_t rays = 0, differences = 0, moreSteps = 0;
+    int64_t stepsFromRoot = 0, stepsBelow = 0;
+    uint32_t seed = 7;
+    for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
+        const auto surface = walk_test::makeSurface(m, seed);
+        const MaxPyramid pyramid = seed % 2 ? MaxPyramid(*surface) : MaxPyramid::overTexels(*surface);
+        const MaxBound bound(pyramid);
+        walk_test::RayMaker maker(*surface, seed++);
+        std::vector<Ray> batch = maker.all(60);
+        for (size_t k = 0, n = batch.size(); k < n; ++k) {  // the same rays as segments
+            Ray segment = batch[k];
+            const RayInterval span = surface->clip(segment);
+            if (span.empty()) continue;
+            segment.tMax = span.tEnter + float(k % 7 + 1) / 8.0f * (span.tExit - span.tEnter);
+            batch.push_back(segment);
+        }
+        WalkLimits root;
+        root.fromRoot = true;
+        for (const Ray& ray : batch) {
+            const Hit a = walkPyramid<Ascent::Parent>(*surface, pyramid.layout(), bound, ray, root);
+            const Hit b = walkPyramid<Ascent::Parent>(*surface, pyramid.layout(), bound, ray, {});
+            const Hit c = walkPyramid<Ascent::Ancestor>(*surface, pyramid.layout(), bound, ray, root);
+            const Hit d = walkPyramid<Ascent::Ancestor>(*surface, pyramid.layout(), bound, ray, {});
+            const auto sameHit = [](const Hit& x, const Hit& y) {
+                return x.hit == y.hit && std::bit_cast<uint32_t>(x.t) == std::bit_cast<uint32_t>(y.t) &&
+                       x.position == y.position;
+            };
+            differences += !sameHit(a, b) + !sameHit(c, d);
+            moreSteps += (b.steps > a.steps) + (d.steps > c.steps);
+            stepsFromRoot += a.steps + c.steps;
+            stepsBelow += b.steps + d.steps;
+            rays += 2;
+        }
+    }
+    std::printf("start below the root: %zu walks, %zu differences, %zu with more steps; steps %lld "
+                "from the root, %lld below it\n",
+                rays, differences, moreSteps, (long long)stepsFromRoot, (long long)stepsBelow);
+    EXPECT_GE(rays, 100000u);
+    EXPECT_EQ(differences, 0u);
+    EXPECT_EQ(moreSteps, 0u);
+    EXPECT_LT(stepsBelow, stepsFromRoot);
 }
 
 TEST(PyramidWalkPacket, IdenticalToScalarOnAdversarialMapsAndRays) {
