@@ -226,9 +226,10 @@ ReliefHit reliefPyramidWalk(sampler2D heights, sampler2D pyramid, sampler2D orie
         c.px = ci - tree.firstCell;
         c.py = cj - tree.firstCell;
     }
-    // Below the root (pyramid_walk.h, startCursor): unless the walk is the paper's Algorithm 1,
-    // it starts at the smallest node holding the cells where the ray enters and leaves the box.
-    if (ascent != kAscentNone) {
+    // Below the root (pyramid_walk.h, startCursor and startsAtRoot): unless the walk is the
+    // paper's Algorithm 1 or its fixed loop, it starts at the smallest node holding the cells
+    // where the ray enters and leaves the box.
+    if (ascent != kAscentNone && p.maxSteps <= 0) {
         vec3 leave = o + span.y * d;
         // one cell further along the ray: the position may have rounded back over an edge
         int ei = reliefClampCellX(int(floor(leave.x - 0.5)), p) + r.stepX;

@@ -65,12 +65,12 @@ std::vector<const BenchRow*> cpuRows(const std::vector<BenchRow>& rows) {
 ReportTable viewsTable(const std::vector<const BenchRow*>& rows, const PeerIndex& peers) {
     ReportTable t{
         "CPU peers: every view",
-        "Mrays/s of each row and peer on the view's primary rays and on its shadow rays (from the "
-        "reference's lit-facing primary hits toward the light, in 4×4 pixel tiles), and the ratios "
-        "to "
-        "Embree on the same rays in this run. wrong %: pixels with another hit/miss or |Δt| > 0.5 "
-        "than "
-        "the reference; shadow wrong %: pixels whose shadow differs from the reference's."};
+        "Mrays/s of each row and peer on the view's primary rays and on its shadow rays (for the "
+        "reference's lit-facing primary hits, in 4×4 pixel tiles: segments from the light that "
+        "end 0.5 texels before their points, a first-hit search for the rows, an occlusion query "
+        "for Embree), and the ratios to Embree on the same rays in this run. wrong %: pixels with "
+        "another hit/miss or |Δt| > 0.5 than the reference; shadow wrong %: pixels whose shadow "
+        "differs from the reference's."};
     t.header = {"map",
                 "elevation",
                 "row",

@@ -252,7 +252,9 @@ Hit walkPyramid(int ascent, Ray ray, WalkLimits limits) {
     if (empty(span)) return noHit();
     const PyramidLayout pyramid = pyramidLayout();
     const WalkRay r = makeWalkRay(ray, span);
-    WalkCursor c = startCursor(pyramid, r, ascent == kAscentNone);
+    // startsAtRoot (pyramid_walk.h): the paper's forms
+    const bool fromRoot = ascent == kAscentNone || limits.maxSteps > 0 || limits.boxSurface;
+    WalkCursor c = startCursor(pyramid, r, fromRoot);
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : kIntMax;
     int steps = 0, fetches = 0;
     for (int guard = 0; guard < (1 << 26); ++guard) {

@@ -47,7 +47,7 @@ enum class Ascent {
 struct WalkLimits {
     int maxSteps = 0;         // 0 = none; at the cap the walk reports a hit at the cursor
     bool boxSurface = false;  // reaching a level-0 node is a hit (always so over texel boxes)
-    bool fromRoot = false;    // start at the root (always so for Ascent::None): startCursor
+    bool fromRoot = false;    // start at the root whatever the rest says (startsAtRoot)
 };
 
 // Per-ray constants.
@@ -180,9 +180,8 @@ inline StartCell startCell(const Surface& s, const PyramidLayout& layout, const 
             layout.firstCell};
 }
 
-// The walk starts at the entry cell, at the root (`fromRoot`: Schroders & van Gulik's Algorithm
-// 1, which never goes up) or at the smallest node that holds the cells where the ray enters and
-// leaves the box. Above that node the root's walk only descends (the node holds the ray's whole
+// The walk starts at the entry cell, at the root (`fromRoot`) or at the smallest node that holds
+// the cells where the ray enters and leaves the box. Above that node the root's walk only descends (the node holds the ray's whole
 // footprint, so no ancestor's test can do more than it does) or misses (then so does the node's
 // own test, its max being no higher): the walk from there on is the same, less those descents,
 // and finds the same hits. A short ray (a shadow ray from the box's top to a point, a steep
@@ -339,6 +338,15 @@ inline void descend(const PyramidLayout& layout, const WalkRay& r, const NodeBox
                c.exitY, tieBefore);
 }
 
+// The paper's forms start at the root: Schroders & van Gulik's Algorithm 1 (Ascent::None, which
+// never goes up), the fixed loop of max-steps (its iterations count from the root) and the box
+// stops and surfaces (box-surface, the paper variants the claims are judged with). The exact
+// walk starts below it (startCursor).
+template <Ascent kAscent>
+bool startsAtRoot(const WalkLimits& limits) {
+    return kAscent == Ascent::None || limits.maxSteps > 0 || limits.boxSurface || limits.fromRoot;
+}
+
 template <Ascent kAscent>
 int levelAfterStep(const PyramidLayout& layout, int level, int from, int to, bool seam) {
     if constexpr (kAscent == Ascent::None) {
@@ -398,7 +406,7 @@ Hit walkPyramid(const Surface& s, const PyramidLayout& layout, const Bound& boun
     const WalkRay r = makeWalkRay(ray, span, s, layout);
     if (layout.texels() && r.o.z + r.tEnter * r.d.z <= floorTolerance(r.o.z, r.depth))
         return makeHit(ray, r.tEnter, 0, 0);  // entering through the floor, as firstTexelBoxHit
-    WalkCursor c = startCursor(s, layout, r, limits.fromRoot || kAscent == Ascent::None);
+    WalkCursor c = startCursor(s, layout, r, startsAtRoot<kAscent>(limits));
     const int maxSteps = limits.maxSteps > 0 ? limits.maxSteps : std::numeric_limits<int>::max();
     int steps = 0, fetches = 0;
     for (;;) {

@@ -67,7 +67,7 @@ struct Walk {
         }
         const Ray& ray = rays[i];
         const WalkRay r = makeWalkRay(ray, span, s, layout);
-        const WalkCursor c = startCursor(s, layout, r, false);  // Parent and Ancestor only
+        const WalkCursor c = startCursor(s, layout, r, false);  // the defaults: Parent, Ancestor, no cap
         p.t[lane] = c.t;
         p.exitX[lane] = c.exitX;
         p.exitY[lane] = c.exitY;

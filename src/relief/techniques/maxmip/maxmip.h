@@ -16,7 +16,9 @@
 //   here the finest level bounds a cell of S (its corner maximum) and the cell is intersected
 //   with the reference's two-triangle test. The walk ascends to the child of the common
 //   ancestor that holds the neighbour (the ancestor itself was already entered); crossing the
-//   tile seam in repeat mode restarts at the root of the next tile.
+//   tile seam in repeat mode restarts at the root of the next tile. Uncapped on S, the walk
+//   starts at the smallest node over the ray's footprint, not the root (startCursor: the same
+//   hits, never more steps).
 // Packets: the defaults (max-steps 0, box-surface 0, bits 32) trace a batch in SIMD lanes
 //   (common/pyramid_walk_packet.h), bit-identical; RELIEF_PACKETS=0 keeps the scalar walk.
 #include <relief/techniques/common/pyramid_walk.h>

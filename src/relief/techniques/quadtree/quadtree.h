@@ -28,6 +28,9 @@
 //     below S through a side wall hits it at the entry.
 //   - max-steps = 0 (the default) is the dynamic loop; N > 0 is the paper's fixed loop: after N
 //     iterations it reports a hit at the cursor.
+//   - The dynamic loop with ascend = 1 on S starts at the smallest node over the ray's footprint
+//     instead of the root (startCursor: the same hits, never more steps); Algorithm 1, the fixed
+//     loop and the box surfaces start at the root, as the paper does.
 // Packets: the defaults (ascend 1, max-steps 0, box-surface 0, bits 32) trace a batch 8 or 16 rays
 //   at a time in SIMD lanes (common/pyramid_walk_packet.h), bit-identical to the scalar walk;
 //   RELIEF_PACKETS=0 in the environment, or the tracers' ISA baseline (RELIEF_ISA / --isa,
