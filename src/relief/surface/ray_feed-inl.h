@@ -117,8 +117,16 @@ public:
         }
     }
 
-private:
     static constexpr size_t kChunk = 64;  // a multiple of every target's lane count
+
+    // The chunk the last next() came from: its first ray's index, one past its last, and the
+    // spans of its rays (entry k is ray chunkBegin() + k; empty where the ray misses the box).
+    size_t chunkBegin() const { return m_chunk; }
+    size_t chunkEnd() const { return m_clipped; }
+    const float* chunkEnter() const { return m_tEnter; }
+    const float* chunkExit() const { return m_tExit; }
+
+private:
 
     bool clipChunk() {
         if (m_next >= m_rays.size()) return false;

@@ -256,11 +256,13 @@ inline Hit makeMiss(int steps, int fetches) {
 // The reference's rule at the end of the walk (exact.h): leaving through the bottom face means
 // reaching z = 0 ≤ S, a hit, even where rounding left the last cell test a hair above a floor of
 // zero samples.
+inline bool leavesThroughFloor(float oz, float dz, float tExit, float depth) {
+    const float zExit = oz + tExit * dz;
+    const float zRounding = 4.0f * std::numeric_limits<float>::epsilon() * (std::abs(oz) + depth);
+    return dz < 0.0f && zExit <= zRounding;
+}
 inline bool leavesThroughFloor(const WalkRay& r) {
-    const float zExit = r.o.z + r.tExit * r.d.z;
-    const float zRounding =
-        4.0f * std::numeric_limits<float>::epsilon() * (std::abs(r.o.z) + r.depth);
-    return r.d.z < 0.0f && zExit <= zRounding;
+    return leavesThroughFloor(r.o.z, r.d.z, r.tExit, r.depth);
 }
 
 // The reference's cell test on the cursor's cell, over the ray's whole span in the cell (its

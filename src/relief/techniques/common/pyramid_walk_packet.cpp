@@ -28,7 +28,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 
 // The lanes' state, structure of arrays: the cursor (WalkCursor) and the ray's constants
-// (WalkRay), read into vectors when lanes change rays; the scalar parts read them by lane.
+// (WalkRay), read into vectors when lanes change rays; the scalar parts read them by lane (no
+// copy of the WalkRay itself: written field by field and read back whole, it stalled the store
+// buffer).
 struct Packet {
     alignas(64) float t[kLanes], exitX[kLanes], exitY[kLanes];
     alignas(64) int32_t level[kLanes], px[kLanes], py[kLanes], baseX[kLanes], baseY[kLanes];
@@ -39,7 +41,6 @@ struct Packet {
     alignas(64) int32_t active[kLanes], steps[kLanes], fetches[kLanes];
     alignas(64) int32_t leafHit[kLanes], done[kLanes];
     alignas(64) float leafT[kLanes];
-    WalkRay ray[kLanes];
     size_t index[kLanes];
 };
 
@@ -54,6 +55,108 @@ struct Walk {
     ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
     const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
+    // The feed's current chunk's starts (clamp mode), made across lanes a chunk at a time:
+    // makeWalkRay and startCursor as `fill` runs them lane by lane in repeat mode, the same
+    // operations in the same order (a lane's set-up was a fifth of a primary view's time).
+    struct Starts {
+        static constexpr size_t kChunk = ray_feed::RayFeed::kChunk;
+        alignas(64) float exitX[kChunk], exitY[kChunk], invX[kChunk], invY[kChunk], invZ[kChunk],
+            slack[kChunk];
+        alignas(64) int32_t level[kChunk], px[kChunk], py[kChunk], stepX[kChunk], stepY[kChunk],
+            exitMaskX[kChunk], exitMaskY[kChunk];
+        size_t chunk = ~size_t(0);  // the chunk's first ray
+    } starts;
+
+    void makeStarts() {
+        const DF df;
+        const DI di;
+        const size_t n = hn::Lanes(df), begin = feed.chunkBegin();
+        const size_t count = feed.chunkEnd() - begin, whole = count / n * n;
+        const float* base = &rays[0].origin.x;
+        const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
+        const VF edge = hn::Set(df, layout.edge), depth = hn::Set(df, s.depth());
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), minusOne = hn::Set(di, -1);
+        const VI lastCellX = hn::Set(di, s.width() - 1), lastCellY = hn::Set(di, s.height() - 1);
+        const VI firstCell = hn::Set(di, layout.firstCell);
+        const VI cellsX = hn::Set(di, layout.cellsX), cellsY = hn::Set(di, layout.cellsY);
+        const VI lastX = hn::Set(di, layout.cellsX - 1), lastY = hn::Set(di, layout.cellsY - 1);
+        for (size_t k = 0; k < whole; k += n) {
+            const VI index = hn::Mul(hn::Iota(di, int32_t(begin + k)), hn::Set(di, 7));
+            const auto field = [&](int32_t c) {
+                return hn::GatherIndex(df, base, hn::Add(index, hn::Set(di, c)));
+            };
+            const VF ox = field(0), oy = field(1), oz = field(2);
+            const VF dx = field(3), dy = field(4), dz = field(5);
+            const VF tEnter = hn::Load(df, feed.chunkEnter() + k);
+            const VF tExit = hn::Load(df, feed.chunkExit() + k);
+            // makeWalkRay
+            const VF invX = hn::Div(one, dx), invY = hn::Div(one, dy), invZ = hn::Div(one, dz);
+            const auto sign = [&](VF d) {
+                return hn::IfThenElse(hn::RebindMask(di, hn::Gt(d, zero)), oneI,
+                                      hn::IfThenElseZero(hn::RebindMask(di, hn::Lt(d, zero)),
+                                                         minusOne));
+            };
+            const VI stepX = sign(dx), stepY = sign(dy);
+            const VI exitMaskX = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(dx, zero)), minusOne);
+            const VI exitMaskY = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(dy, zero)), minusOne);
+            const VF extent = hn::Add(
+                hn::Add(hn::Add(hn::Add(hn::Abs(ox), hn::Abs(oy)), hn::Abs(oz)), tExit), depth);
+            const VF slack = hn::Mul(hn::Set(df, kWalkSlack), extent);
+            // startCell (clamp): cellOfX of the position, one further along the ray if `ahead`
+            const auto cell = [&](VF o, VF d, VF t, VI lastCell, VI step, VI last, bool ahead) {
+                VI c = hn::ConvertTo(di, hn::Floor(hn::Sub(hn::Add(o, hn::Mul(t, d)), half)));
+                c = hn::Min(hn::Max(c, minusOne), lastCell);
+                if (ahead) c = hn::Add(c, step);
+                return hn::Min(hn::Max(hn::Sub(c, firstCell), zeroI), last);
+            };
+            const VI px = cell(ox, dx, tEnter, lastCellX, stepX, lastX, false);
+            const VI py = cell(oy, dy, tEnter, lastCellY, stepY, lastY, false);
+            const VI qx = cell(ox, dx, tExit, lastCellX, stepX, lastX, true);
+            const VI qy = cell(oy, dy, tExit, lastCellY, stepY, lastY, true);
+            // bit_width((px ^ qx) | (py ^ qy)): the float's exponent + 1 (exact below 2^22)
+            const VI differ = hn::Or(hn::Xor(px, qx), hn::Xor(py, qy));
+            const VI exponent = hn::Sub(
+                hn::ShiftRight<23>(hn::BitCast(di, hn::ConvertTo(df, differ))), hn::Set(di, 126));
+            const VI level = hn::Min(hn::IfThenElseZero(hn::Ne(differ, zeroI), exponent),
+                                     hn::Set(di, layout.topLevel()));
+            hn::Store(sideExit(px, level, cellsX, firstCell, stepX, exitMaskX, edge, ox, invX), df,
+                      starts.exitX + k);
+            hn::Store(sideExit(py, level, cellsY, firstCell, stepY, exitMaskY, edge, oy, invY), df,
+                      starts.exitY + k);
+            hn::Store(invX, df, starts.invX + k);
+            hn::Store(invY, df, starts.invY + k);
+            hn::Store(invZ, df, starts.invZ + k);
+            hn::Store(slack, df, starts.slack + k);
+            hn::Store(level, di, starts.level + k);
+            hn::Store(px, di, starts.px + k);
+            hn::Store(py, di, starts.py + k);
+            hn::Store(stepX, di, starts.stepX + k);
+            hn::Store(stepY, di, starts.stepY + k);
+            hn::Store(exitMaskX, di, starts.exitMaskX + k);
+            hn::Store(exitMaskY, di, starts.exitMaskY + k);
+        }
+        for (size_t k = whole; k < count; ++k) {  // the tail: lane by lane
+            const RayInterval span{feed.chunkEnter()[k], feed.chunkExit()[k]};
+            if (span.empty()) continue;
+            const WalkRay r = makeWalkRay(rays[begin + k], span, s, layout);
+            const WalkCursor c = startCursor(s, layout, r, false);
+            starts.exitX[k] = c.exitX;
+            starts.exitY[k] = c.exitY;
+            starts.invX[k] = r.invX;
+            starts.invY[k] = r.invY;
+            starts.invZ[k] = r.invZ;
+            starts.slack[k] = r.slack;
+            starts.level[k] = c.level;
+            starts.px[k] = c.px;
+            starts.py[k] = c.py;
+            starts.stepX[k] = r.stepX;
+            starts.stepY[k] = r.stepY;
+            starts.exitMaskX[k] = r.exitMaskX;
+            starts.exitMaskY[k] = r.exitMaskY;
+        }
+        starts.chunk = begin;
+    }
+
     // Puts the batch's next ray that needs a walk into `lane` (as walkPyramid starts it), or
     // parks the lane (a valid level-0 node, so that its gathers stay in the pyramid).
     void fill(Packet& p, size_t lane) {
@@ -66,6 +169,33 @@ struct Walk {
             return;
         }
         const Ray& ray = rays[i];
+        if (!layout.repeat) {
+            if (feed.chunkBegin() != starts.chunk) makeStarts();
+            const size_t k = i - starts.chunk;
+            p.t[lane] = span.tEnter;
+            p.exitX[lane] = starts.exitX[k];
+            p.exitY[lane] = starts.exitY[k];
+            p.level[lane] = starts.level[k];
+            p.px[lane] = starts.px[k];
+            p.py[lane] = starts.py[k];
+            p.baseX[lane] = p.baseY[lane] = layout.firstCell;
+            setLaneRay(p, lane, ray);
+            p.tEnter[lane] = span.tEnter;
+            p.invX[lane] = starts.invX[k];
+            p.invY[lane] = starts.invY[k];
+            p.invZ[lane] = starts.invZ[k];
+            p.tExit[lane] = span.tExit;
+            p.slack[lane] = starts.slack[k];
+            p.stepX[lane] = starts.stepX[k];
+            p.stepY[lane] = starts.stepY[k];
+            p.exitMaskX[lane] = starts.exitMaskX[k];
+            p.exitMaskY[lane] = starts.exitMaskY[k];
+            p.active[lane] = -1;
+            p.steps[lane] = 0;
+            p.fetches[lane] = 0;
+            p.index[lane] = i;
+            return;
+        }
         const WalkRay r = makeWalkRay(ray, span, s, layout);
         const WalkCursor c = startCursor(s, layout, r, false);  // the defaults: Parent, Ancestor, no cap
         p.t[lane] = c.t;
@@ -90,7 +220,6 @@ struct Walk {
         p.active[lane] = -1;
         p.steps[lane] = 0;
         p.fetches[lane] = 0;
-        p.ray[lane] = r;
         p.index[lane] = i;
     }
 
@@ -300,8 +429,8 @@ struct Walk {
             if (p.leafHit[k])
                 hits[i] = makeHit(ray, p.leafT[k], p.steps[k], p.fetches[k]);
             else
-                hits[i] = leavesThroughFloor(p.ray[k])
-                              ? makeHit(ray, p.ray[k].tExit, p.steps[k], p.fetches[k])
+                hits[i] = leavesThroughFloor(p.oz[k], p.dz[k], p.tExit[k], s.depth())
+                              ? makeHit(ray, p.tExit[k], p.steps[k], p.fetches[k])
                               : makeMiss(p.steps[k], p.fetches[k]);
             fill(p, k);
         }
