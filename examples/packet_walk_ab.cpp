@@ -147,7 +147,8 @@ int main(int argc, char** argv) {
         }
         const auto* packetRow = dynamic_cast<const PacketTracer*>(tracer->get());
         if (!packetRow && !pair) {
-            std::fprintf(stderr, "%s: no packet path here (RELIEF_PACKETS=0, or not a packet row)\n",
+            std::fprintf(stderr,
+                         "%s: no packet path here (RELIEF_PACKETS=0, or not a packet row)\n",
                          row.c_str());
             return 1;
         }
@@ -162,9 +163,9 @@ int main(int argc, char** argv) {
                 std::vector<Hit> primary(rays.size());
                 traceAll(scalar, rays, primary);
                 const vec3 light = bench::towardsLight(30.0f);
-                rays = raysFromTheLight(**surface,
-                                        bench::shadowPoints(**surface, primary, width, height, light),
-                                        light)
+                rays = raysFromTheLight(
+                           **surface, bench::shadowPoints(**surface, primary, width, height, light),
+                           light)
                            .rays;
             } else if (tiles) {
                 rays = bench::inPacketOrder(rays, bench::packetOrder(width, height));
@@ -187,11 +188,12 @@ int main(int argc, char** argv) {
                 ratios.push_back(ts.back() / tp.back());
             }
             const double n = double(rays.size()) * 1e-6;
-            std::printf("| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu | %.1f | %.1f |\n",
-                        row.c_str(), source.c_str(), elevation, n / median(ts), n / median(tp),
-                        median(ratios), *std::min_element(ratios.begin(), ratios.end()),
-                        *std::max_element(ratios.begin(), ratios.end()), hits, differences,
-                        steps / double(rays.size()), fetches / double(rays.size()));
+            std::printf(
+                "| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu | %.1f | %.1f |\n",
+                row.c_str(), source.c_str(), elevation, n / median(ts), n / median(tp),
+                median(ratios), *std::min_element(ratios.begin(), ratios.end()),
+                *std::max_element(ratios.begin(), ratios.end()), hits, differences,
+                steps / double(rays.size()), fetches / double(rays.size()));
             std::fflush(stdout);
         }
         }

@@ -319,11 +319,11 @@ private:
     // reference finds each lit (traced from the light, as every row's shadow test is). With
     // shadowTiming, the rays themselves: segments that end before their points, searched whole
     // by the rows (first hit) and by Embree's occlusion queries (any hit; litFromHits' verdict).
-    void prepareShadows(const Surface& surface, const Camera& camera, const Image<Hit>& referenceHits,
-                        const Tracer& reference) {
+    void prepareShadows(const Surface& surface, const Camera& camera,
+                        const Image<Hit>& referenceHits, const Tracer& reference) {
         m_towardsLight = towardsLight(m_config.shadowElevation);
-        m_shadowPoints = shadowPoints(surface, referenceHits.pixels, camera.width(), camera.height(),
-                                      m_towardsLight);
+        m_shadowPoints = shadowPoints(surface, referenceHits.pixels, camera.width(),
+                                      camera.height(), m_towardsLight);
         m_referenceLit = litFromTheLight(surface, m_shadowPoints, reference, m_towardsLight);
         if (!m_config.shadowTiming) return;
         m_lightRays = raysFromTheLight(surface, m_shadowPoints, m_towardsLight);

@@ -162,8 +162,8 @@ inline void updateExits(const PyramidLayout& layout, const WalkRay& r, WalkCurso
 struct StartCell {
     int px, py, baseX, baseY;
 };
-[[gnu::always_inline]] inline StartCell startCell(const Surface& s, const PyramidLayout& layout, const WalkRay& r, float t,
-                           bool ahead) {
+[[gnu::always_inline]] inline StartCell startCell(const Surface& s, const PyramidLayout& layout,
+                                                  const WalkRay& r, float t, bool ahead) {
     const vec3 at = r.at(t);
     int ci = s.cellOfX(at.x), cj = s.cellOfY(at.y);
     if (layout.texels()) {  // the texel holding the point (as firstTexelBoxHit finds the entry)
@@ -184,11 +184,11 @@ struct StartCell {
 }
 
 // The walk starts at the entry cell, at the root (`fromRoot`) or at the smallest node that holds
-// the cells where the ray enters and leaves the box. Above that node the root's walk only descends (the node holds the ray's whole
-// footprint, so no ancestor's test can do more than it does) or misses (then so does the node's
-// own test, its max being no higher): the walk from there on is the same, less those descents,
-// and finds the same hits. A short ray (a shadow ray from the box's top to a point, a steep
-// view) skips most of the pyramid's height this way.
+// the cells where the ray enters and leaves the box. Above that node the root's walk only descends
+// (the node holds the ray's whole footprint, so no ancestor's test can do more than it does) or
+// misses (then so does the node's own test, its max being no higher): the walk from there on is the
+// same, less those descents, and finds the same hits. A short ray (a shadow ray from the box's top
+// to a point, a steep view) skips most of the pyramid's height this way.
 [[gnu::always_inline]] inline WalkCursor startCursor(const Surface& s, const PyramidLayout& layout,
                                                      const WalkRay& r, bool fromRoot) {
     const StartCell entry = startCell(s, layout, r, r.tEnter, false);
@@ -196,8 +196,9 @@ struct StartCell {
     if (!fromRoot) {
         const StartCell exit = startCell(s, layout, r, r.tExit, true);
         if (exit.baseX == entry.baseX && exit.baseY == entry.baseY)
-            c.level = std::min(c.level, int(std::bit_width(unsigned((entry.px ^ exit.px) |
-                                                                    (entry.py ^ exit.py)))));
+            c.level = std::min(
+                c.level,
+                int(std::bit_width(unsigned((entry.px ^ exit.px) | (entry.py ^ exit.py)))));
     }
     updateExits(layout, r, c, true, true);
     return c;

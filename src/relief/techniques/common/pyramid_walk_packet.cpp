@@ -52,7 +52,7 @@ struct Walk {
     alignas(64) int32_t levelOffset[PyramidLayout::kMaxLevels + kLanes];
     std::span<const Ray> rays;
     std::span<Hit> hits;
-    ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
+    ray_feed::RayFeed feed{s, rays, hits};            // the rays, clipped a chunk at a time
     const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
     // The feed's current chunk's starts (clamp mode), made across lanes a chunk at a time:
@@ -92,9 +92,9 @@ struct Walk {
             // makeWalkRay
             const VF invX = hn::Div(one, dx), invY = hn::Div(one, dy), invZ = hn::Div(one, dz);
             const auto sign = [&](VF d) {
-                return hn::IfThenElse(hn::RebindMask(di, hn::Gt(d, zero)), oneI,
-                                      hn::IfThenElseZero(hn::RebindMask(di, hn::Lt(d, zero)),
-                                                         minusOne));
+                return hn::IfThenElse(
+                    hn::RebindMask(di, hn::Gt(d, zero)), oneI,
+                    hn::IfThenElseZero(hn::RebindMask(di, hn::Lt(d, zero)), minusOne));
             };
             const VI stepX = sign(dx), stepY = sign(dy);
             const VI exitMaskX = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(dx, zero)), minusOne);
@@ -197,7 +197,8 @@ struct Walk {
             return;
         }
         const WalkRay r = makeWalkRay(ray, span, s, layout);
-        const WalkCursor c = startCursor(s, layout, r, false);  // the defaults: Parent, Ancestor, no cap
+        const WalkCursor c =
+            startCursor(s, layout, r, false);  // the defaults: Parent, Ancestor, no cap
         p.t[lane] = c.t;
         p.exitX[lane] = c.exitX;
         p.exitY[lane] = c.exitY;

@@ -48,7 +48,8 @@ TEST(PyramidWalk, StartBelowTheRootSameHitsNoMoreSteps) {
     uint32_t seed = 7;
     for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
         const auto surface = walk_test::makeSurface(m, seed);
-        const MaxPyramid pyramid = seed % 2 ? MaxPyramid(*surface) : MaxPyramid::overTexels(*surface);
+        const MaxPyramid pyramid =
+            seed % 2 ? MaxPyramid(*surface) : MaxPyramid::overTexels(*surface);
         const MaxBound bound(pyramid);
         walk_test::RayMaker maker(*surface, seed++);
         std::vector<Ray> batch = maker.all(60);
@@ -64,10 +65,12 @@ TEST(PyramidWalk, StartBelowTheRootSameHitsNoMoreSteps) {
         for (const Ray& ray : batch) {
             const Hit a = walkPyramid<Ascent::Parent>(*surface, pyramid.layout(), bound, ray, root);
             const Hit b = walkPyramid<Ascent::Parent>(*surface, pyramid.layout(), bound, ray, {});
-            const Hit c = walkPyramid<Ascent::Ancestor>(*surface, pyramid.layout(), bound, ray, root);
+            const Hit c =
+                walkPyramid<Ascent::Ancestor>(*surface, pyramid.layout(), bound, ray, root);
             const Hit d = walkPyramid<Ascent::Ancestor>(*surface, pyramid.layout(), bound, ray, {});
             const auto sameHit = [](const Hit& x, const Hit& y) {
-                return x.hit == y.hit && std::bit_cast<uint32_t>(x.t) == std::bit_cast<uint32_t>(y.t) &&
+                return x.hit == y.hit &&
+                       std::bit_cast<uint32_t>(x.t) == std::bit_cast<uint32_t>(y.t) &&
                        x.position == y.position;
             };
             differences += !sameHit(a, b) + !sameHit(c, d);
@@ -77,9 +80,10 @@ TEST(PyramidWalk, StartBelowTheRootSameHitsNoMoreSteps) {
             rays += 2;
         }
     }
-    std::printf("start below the root: %zu walks, %zu differences, %zu with more steps; steps %lld "
-                "from the root, %lld below it\n",
-                rays, differences, moreSteps, (long long)stepsFromRoot, (long long)stepsBelow);
+    std::printf(
+        "start below the root: %zu walks, %zu differences, %zu with more steps; steps %lld "
+        "from the root, %lld below it\n",
+        rays, differences, moreSteps, (long long)stepsFromRoot, (long long)stepsBelow);
     EXPECT_GE(rays, 100000u);
     EXPECT_EQ(differences, 0u);
     EXPECT_EQ(moreSteps, 0u);
