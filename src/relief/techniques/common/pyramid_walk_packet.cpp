@@ -55,15 +55,16 @@ struct Walk {
     ray_feed::RayFeed feed{s, rays, hits};            // the rays, clipped a chunk at a time
     const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
-    // The feed's current chunk's starts (clamp mode), made across lanes a chunk at a time:
-    // makeWalkRay and startCursor as `fill` runs them lane by lane in repeat mode, the same
-    // operations in the same order (a lane's set-up was a fifth of a primary view's time).
+    // The feed's current chunk's starts (makeWalkRay and startCursor per ray), made a chunk at a
+    // time: across lanes in clamp mode, the same operations in the same order as the scalar
+    // set-up, which makes the rest (the chunk's tail; every ray in repeat mode, whose floorMod
+    // needs an integer division per lane). A lane's set-up was a fifth of a primary view's time.
     struct Starts {
         static constexpr size_t kChunk = ray_feed::RayFeed::kChunk;
         alignas(64) float exitX[kChunk], exitY[kChunk], invX[kChunk], invY[kChunk], invZ[kChunk],
             slack[kChunk];
-        alignas(64) int32_t level[kChunk], px[kChunk], py[kChunk], stepX[kChunk], stepY[kChunk],
-            exitMaskX[kChunk], exitMaskY[kChunk];
+        alignas(64) int32_t level[kChunk], px[kChunk], py[kChunk], baseX[kChunk], baseY[kChunk],
+            stepX[kChunk], stepY[kChunk], exitMaskX[kChunk], exitMaskY[kChunk];
         size_t chunk = ~size_t(0);  // the chunk's first ray
     } starts;
 
@@ -71,7 +72,8 @@ struct Walk {
         const DF df;
         const DI di;
         const size_t n = hn::Lanes(df), begin = feed.chunkBegin();
-        const size_t count = feed.chunkEnd() - begin, whole = count / n * n;
+        const size_t count = feed.chunkEnd() - begin;
+        const size_t whole = layout.repeat ? 0 : count / n * n;
         const float* base = &rays[begin].origin.x;  // the chunk's rays: small gather offsets
         const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
         const VF edge = hn::Set(df, layout.edge), depth = hn::Set(df, s.depth());
@@ -130,16 +132,18 @@ struct Walk {
             hn::Store(level, di, starts.level + k);
             hn::Store(px, di, starts.px + k);
             hn::Store(py, di, starts.py + k);
+            hn::Store(firstCell, di, starts.baseX + k);
+            hn::Store(firstCell, di, starts.baseY + k);
             hn::Store(stepX, di, starts.stepX + k);
             hn::Store(stepY, di, starts.stepY + k);
             hn::Store(exitMaskX, di, starts.exitMaskX + k);
             hn::Store(exitMaskY, di, starts.exitMaskY + k);
         }
-        for (size_t k = whole; k < count; ++k) {  // the tail: lane by lane
+        for (size_t k = whole; k < count; ++k) {  // lane by lane
             const RayInterval span{feed.chunkEnter()[k], feed.chunkExit()[k]};
             if (span.empty()) continue;
             const WalkRay r = makeWalkRay(rays[begin + k], span, s, layout);
-            const WalkCursor c = startCursor(s, layout, r, false);
+            const WalkCursor c = startCursor(s, layout, r, false);  // the defaults: no cap
             starts.exitX[k] = c.exitX;
             starts.exitY[k] = c.exitY;
             starts.invX[k] = r.invX;
@@ -149,6 +153,8 @@ struct Walk {
             starts.level[k] = c.level;
             starts.px[k] = c.px;
             starts.py[k] = c.py;
+            starts.baseX[k] = c.baseX;
+            starts.baseY[k] = c.baseY;
             starts.stepX[k] = r.stepX;
             starts.stepY[k] = r.stepY;
             starts.exitMaskX[k] = r.exitMaskX;
@@ -168,56 +174,27 @@ struct Walk {
             p.px[lane] = p.py[lane] = 0;
             return;
         }
-        const Ray& ray = rays[i];
-        if (!layout.repeat) {
-            if (feed.chunkBegin() != starts.chunk) makeStarts();
-            const size_t k = i - starts.chunk;
-            p.t[lane] = span.tEnter;
-            p.exitX[lane] = starts.exitX[k];
-            p.exitY[lane] = starts.exitY[k];
-            p.level[lane] = starts.level[k];
-            p.px[lane] = starts.px[k];
-            p.py[lane] = starts.py[k];
-            p.baseX[lane] = p.baseY[lane] = layout.firstCell;
-            setLaneRay(p, lane, ray);
-            p.tEnter[lane] = span.tEnter;
-            p.invX[lane] = starts.invX[k];
-            p.invY[lane] = starts.invY[k];
-            p.invZ[lane] = starts.invZ[k];
-            p.tExit[lane] = span.tExit;
-            p.slack[lane] = starts.slack[k];
-            p.stepX[lane] = starts.stepX[k];
-            p.stepY[lane] = starts.stepY[k];
-            p.exitMaskX[lane] = starts.exitMaskX[k];
-            p.exitMaskY[lane] = starts.exitMaskY[k];
-            p.active[lane] = -1;
-            p.steps[lane] = 0;
-            p.fetches[lane] = 0;
-            p.index[lane] = i;
-            return;
-        }
-        const WalkRay r = makeWalkRay(ray, span, s, layout);
-        const WalkCursor c =
-            startCursor(s, layout, r, false);  // the defaults: Parent, Ancestor, no cap
-        p.t[lane] = c.t;
-        p.exitX[lane] = c.exitX;
-        p.exitY[lane] = c.exitY;
-        p.level[lane] = c.level;
-        p.px[lane] = c.px;
-        p.py[lane] = c.py;
-        p.baseX[lane] = c.baseX;
-        p.baseY[lane] = c.baseY;
-        setLaneRay(p, lane, ray);  // r.o, r.d
-        p.tEnter[lane] = r.tEnter;
-        p.invX[lane] = r.invX;
-        p.invY[lane] = r.invY;
-        p.invZ[lane] = r.invZ;
-        p.tExit[lane] = r.tExit;
-        p.slack[lane] = r.slack;
-        p.stepX[lane] = r.stepX;
-        p.stepY[lane] = r.stepY;
-        p.exitMaskX[lane] = r.exitMaskX;
-        p.exitMaskY[lane] = r.exitMaskY;
+        if (feed.chunkBegin() != starts.chunk) makeStarts();
+        const size_t k = i - starts.chunk;
+        p.t[lane] = span.tEnter;
+        p.exitX[lane] = starts.exitX[k];
+        p.exitY[lane] = starts.exitY[k];
+        p.level[lane] = starts.level[k];
+        p.px[lane] = starts.px[k];
+        p.py[lane] = starts.py[k];
+        p.baseX[lane] = starts.baseX[k];
+        p.baseY[lane] = starts.baseY[k];
+        setLaneRay(p, lane, rays[i]);
+        p.tEnter[lane] = span.tEnter;
+        p.invX[lane] = starts.invX[k];
+        p.invY[lane] = starts.invY[k];
+        p.invZ[lane] = starts.invZ[k];
+        p.tExit[lane] = span.tExit;
+        p.slack[lane] = starts.slack[k];
+        p.stepX[lane] = starts.stepX[k];
+        p.stepY[lane] = starts.stepY[k];
+        p.exitMaskX[lane] = starts.exitMaskX[k];
+        p.exitMaskY[lane] = starts.exitMaskY[k];
         p.active[lane] = -1;
         p.steps[lane] = 0;
         p.fetches[lane] = 0;
