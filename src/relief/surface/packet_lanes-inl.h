@@ -9,6 +9,7 @@
 #define RELIEF_SURFACE_PACKET_LANES_INL_H_
 #endif
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 #include <relief/core/math.h>
 
@@ -51,6 +52,17 @@ void setCellWalkRay(Packet& p, size_t lane, const Ray& ray) {
     p.invY[lane] = 1.0f / d.y;
     p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
     p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+}
+
+// Asks for the line of base[index] in every lane ahead of its gather: the packet walks know an
+// address a pass before they load it (Highway has no gather-prefetch; a prefetch only costs an
+// issue slot, and every lane's index must be inside base's array).
+template <class T>
+HWY_INLINE void PrefetchLanes(const T* base, VI index) {
+    const DI di;
+    alignas(64) int32_t ahead[kLanes];
+    hn::Store(index, di, ahead);
+    for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(base + ahead[k]);
 }
 
 }  // namespace packet_lanes

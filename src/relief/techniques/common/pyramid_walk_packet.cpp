@@ -10,7 +10,6 @@
 #define HWY_TARGET_INCLUDE "relief/techniques/common/pyramid_walk_packet.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
-#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 #include <relief/surface/cell_test-inl.h>
 #include <relief/surface/packet_lanes-inl.h>
@@ -440,9 +439,7 @@ struct Walk {
         const MI atLeaf = hn::Eq(level, hn::Zero(di));
         const VI childLevel = hn::Sub(level, hn::IfThenZeroElse(atLeaf, hn::Set(di, 1)));
         const VI child = nodeOffset(childLevel, hn::ShiftLeft<1>(nx), hn::ShiftLeft<1>(ny));
-        alignas(64) int32_t ahead[kLanes];
-        hn::Store(hn::IfThenElse(atLeaf, offset, child), di, ahead);
-        for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(values + ahead[k]);
+        PrefetchLanes(values, hn::IfThenElse(atLeaf, offset, child));
     }
 
     // table[level] by lane: lookups in registers over the table's whole vectors (a handful of

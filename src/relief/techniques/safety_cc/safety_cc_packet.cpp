@@ -25,6 +25,7 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 namespace safety_cc_march {
 
+
 using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 using Walk = SafetyCcTracer::Walk;
 
@@ -123,6 +124,13 @@ struct March {
             p.active[lane] = -1;
             p.index[lane] = i;
             beginCells(p, lane, span.tEnter, w.tOf(0), 0, false);  // up to the first centerline
+            // The march's first fetch, at centerline 0 once the entry cells are walked: asked
+            // for now (fetchStep's texel; see pass's texelOf).
+            const int a = std::clamp(w.k0, 0, p.lenA[lane] - 1);
+            const int b = std::clamp(int(std::floor(w.oB + w.tOf(0) * w.dB + 0.5f)), 0,
+                                     p.lenB[lane] - 1);
+            hwy::Prefetch(texels + 4 * (p.texelBase[lane] + a * p.texelA[lane] +
+                                        b * p.texelB[lane]));
             return;
         }
     }
@@ -170,11 +178,25 @@ struct March {
             return hn::IfThenElse(hn::Lt(t, lo), lo, hn::IfThenElse(hn::Lt(hi, t), hi, t));
         };
 
+        // fetchStep's texel (as the 4-float index of its z0): the map's texel nearest the
+        // position on centerline nV, at t = tOf(nV), clamped into the class's map.
+        const auto texelOf = [&](VI nV, VF t) {
+            const VI a = hn::Min(
+                hn::Max(hn::Add(hn::Load(di, p.k0), hn::Mul(hn::Load(di, p.sign), nV)), zeroI),
+                hn::Sub(hn::Load(di, p.lenA), oneI));
+            const VF bF = hn::Add(hn::Load(df, p.oB), hn::Mul(t, hn::Load(df, p.dB)));
+            const VI b = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(hn::Add(bF, half))), zeroI),
+                                 hn::Sub(hn::Load(di, p.lenB), oneI));
+            return hn::ShiftLeft<2>(hn::Add(hn::Load(di, p.texelBase),
+                                            hn::Add(hn::Mul(a, hn::Load(di, p.texelA)),
+                                                    hn::Mul(b, hn::Load(di, p.texelB)))));
+        };
+
         {
             const MI act = hn::MaskFromVec(hn::Load(di, p.active));
             const VI phase = hn::Load(di, p.phase);
             const MI walking = hn::And(act, hn::Eq(phase, hn::Set(di, kCells)));
-            const MI jumping = hn::And(act, hn::Eq(phase, hn::Set(di, kJump)));
+            MI jumping = hn::And(act, hn::Eq(phase, hn::Set(di, kJump)));
             const MI bisecting = hn::And(act, hn::Eq(phase, hn::Set(di, kBisect)));
             VI steps = hn::Load(di, p.steps), fetches = hn::Load(di, p.fetches);
             // Lanes that begin a cell walk at the end of this pass, and its span and sequel.
@@ -223,6 +245,10 @@ struct March {
                 beginTb = hn::Load(df, p.tExit);
                 beginToExit = hn::VecFromMask(di, lastOne);
 
+                // A walk that ends here and resumes the march jumps in this same pass (the
+                // lane's operations in the same order, one pass fewer per naive step); not
+                // where the cell may hold the hit, which the scalar part decides first.
+                jumping = hn::Or(jumping, hn::AndNot(candidate, hn::AndNot(lastOne, resumes)));
                 events = hn::Or(candidate, exitEnds);
                 if (!hn::AllFalse(di, events)) {
                     hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
@@ -248,19 +274,9 @@ struct March {
                 if (!hn::AllFalse(di, jumping)) {
                     // fetchStep: the map's texel nearest the position on centerline n.
                     const VF t = tOf(nV);
-                    const VI a = hn::Min(hn::Max(hn::Add(k0, hn::Mul(sign, nV)), zeroI),
-                                         hn::Sub(lenA, oneI));
-                    const VI b = hn::Min(
-                        hn::Max(hn::ConvertTo(di, hn::Floor(hn::Add(hn::Add(oB, hn::Mul(t, dB)),
-                                                                    half))),
-                                zeroI),
-                        hn::Sub(lenB, oneI));
                     fetches = hn::Add(fetches, hn::IfThenElseZero(jumping, oneI));
                     const VF z = hn::Add(oz, hn::Mul(t, dz));
-                    const VI texel = hn::ShiftLeft<2>(
-                        hn::Add(hn::Load(di, p.texelBase),
-                                hn::Add(hn::Mul(a, hn::Load(di, p.texelA)),
-                                        hn::Mul(b, hn::Load(di, p.texelB)))));
+                    const VI texel = texelOf(nV, t);
                     const VF z0 = hn::GatherIndex(df, texels, texel);
                     const VF slope = hn::GatherIndex(df, texels, hn::Add(texel, oneI));
                     const VI r = hn::GatherIndex(di, radii, texel);
@@ -293,6 +309,10 @@ struct March {
 
                 // aboveAt(target): the ray's height above S there (linear between two samples).
                 const VF t = tOf(target);
+                // A jump that lands above S fetches the map at its target next pass: ask for
+                // that texel now, so its load overlaps this one's (the map is 16 bytes per
+                // texel and class, far larger than the caches; the heights are not).
+                PrefetchLanes(texels, texelOf(target, t));
                 const VF bF = hn::Add(oB, hn::Mul(t, dB));
                 const VF fb = hn::Floor(bF);
                 const VI ib = hn::ConvertTo(di, fb);
@@ -342,6 +362,8 @@ struct March {
                                    last);
                 };
                 const VI ci = cellOf(p.ox, p.dx, lastX), cj = cellOf(p.oy, p.dy, lastY);
+                // The fetch where the march resumes after these cells, asked for now.
+                PrefetchLanes(texels, texelOf(beginResume, tOf(beginResume)));
                 const MF beginsF = hn::RebindMask(df, begins);
                 hn::Store(hn::IfThenElse(begins, hn::Set(di, kCells), hn::Load(di, p.phase)), di,
                           p.phase);

@@ -10,7 +10,13 @@
 //   test positions, the walk to the exit: cellsHit's exits and sign tests,
 //   surface/cell_test-inl.h), a jump (the map fetch, a gather of r, z0 and s_c, the
 //   cylinder-cone step, the height above S where it lands), or a bisection step (the height
-//   above S at the midpoint); the hand-overs between them are selects.
+//   above S at the midpoint); the hand-overs between them are selects. A walk that ends and
+//   resumes the march jumps in the same pass (on rough maps, r = 0, the march is a naive step
+//   per centerline: one pass each, not two).
+// Memory: the map (16 bytes per texel and class: 64 MiB at 1024²) misses the caches, so the
+//   texel of a lane's next fetch is prefetched as soon as its centerline is known (a jump's
+//   target, where a walk resumes, a new ray's first centerline): its load overlaps the height
+//   gathers and the other packet's pass instead of stalling the jump.
 // Per lane, scalar: the setup (class, first and last centerline: SafetyTracer::setUp; the clip
 //   is SIMD, surface/ray_feed-inl.h), the rays the march gives to the exact walk (outside
 //   φ_max, exterior maps with an interior origin, near-vertical rays: cellsHit over the span, as
