@@ -196,6 +196,14 @@ struct March {
             cellExit = hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)));
             tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
         }
+        // The next step's texel, asked for now: its load then overlaps the rest of this step
+        // and the other packet's (the gather at the top of the next step would wait for it).
+        {
+            const VF qx = hn::Add(ox, hn::Mul(tNext, dx)), qy = hn::Add(oy, hn::Mul(tNext, dy));
+            const VI jx = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qx)), zeroI), lastX);
+            const VI jy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qy)), zeroI), lastY);
+            PrefetchLanes(cones, hn::ShiftLeft<1>(hn::Add(hn::Mul(jy, width), jx)));
+        }
         const MI capped = hn::And(act, hn::Eq(r.steps, maxSteps));
         const MI mayEnd = hn::Or(hn::Or(leaves, candidate), hn::Or(cellExit, capped));
         if (hn::AllFalse(di, mayEnd)) {

@@ -3,7 +3,8 @@
 // packets of rays: SIMD lanes (Google Highway; 16 / 8 / 4 floats), each lane marching its own ray
 // in lockstep with masks; a lane whose ray is done takes the batch's next ray. Two packets take
 // turns step by step, so one packet's gathers are in flight while the other computes (the march
-// is bound by the latency of its dependent fetches).
+// is bound by the latency of its dependent fetches); each step also prefetches the texel its
+// next step reads, as soon as the position is known.
 // Invariant: per lane the same float operations in the same order as the scalar march (compiled
 //   with -ffp-contract=off), so hit, t, position, steps and fetches are the scalar tracer's bit
 //   for bit; the iteration cap included.
