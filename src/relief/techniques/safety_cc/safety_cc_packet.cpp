@@ -15,7 +15,9 @@
 #include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/safety_cc/safety_cc_packet.h>
 
+#include <bit>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 HWY_BEFORE_NAMESPACE();
@@ -380,42 +382,44 @@ struct March {
             hn::Store(fetches, di, p.fetches);
             if (hn::AllFalse(di, events)) return true;
 
-            // Lanes whose cell may hold the hit (the root, scalar) or whose ray ends here.
-            bool any = false;
-            for (size_t k = 0; k < lanes; ++k) {
-                if (p.active[k] != 0 && (p.candidate[k] || p.exitEnds[k])) {
-                    const size_t i = p.index[k];
-                    const Ray& ray = rays[i];
-                    Hit hit;
-                    hit.steps = p.steps[k];
-                    hit.fetches = p.fetches[k];
-                    bool finished = false;
-                    if (p.candidate[k]) {
-                        const float tc = p.cellTc[k];
-                        const float th = firstHitInCell(s.cellPlanes(p.cellI[k], p.cellJ[k]), ray,
-                                                        p.cellI[k], p.cellJ[k], p.cellTa[k], tc);
-                        if (th <= tc) {
-                            setHit(ray, th, hit);
-                            finished = true;
-                        }
-                    }
-                    if (!finished && p.exitEnds[k]) {
-                        // cellsHit's rule at the box exit (toExit)
-                        if (p.pastEnd[k] && exitsThroughFloor(s, ray, p.tb[k]))
-                            setHit(ray, p.tb[k], hit);
+            // Lanes whose cell may hold the hit (the root, scalar) or whose ray ends here: only
+            // the lanes flagged (a branch per flagged lane, not one per lane).
+            uint8_t flagged[8] = {};
+            hn::StoreMaskBits(di, events, flagged);
+            uint64_t bits = 0;
+            std::memcpy(&bits, flagged, sizeof(bits));
+            for (; bits != 0; bits &= bits - 1) {
+                const size_t k = size_t(std::countr_zero(bits));
+                const size_t i = p.index[k];
+                const Ray& ray = rays[i];
+                Hit hit;
+                hit.steps = p.steps[k];
+                hit.fetches = p.fetches[k];
+                bool finished = false;
+                if (p.candidate[k]) {
+                    const float tc = p.cellTc[k];
+                    const float th = firstHitInCell(s.cellPlanes(p.cellI[k], p.cellJ[k]), ray,
+                                                    p.cellI[k], p.cellJ[k], p.cellTa[k], tc);
+                    if (th <= tc) {
+                        setHit(ray, th, hit);
                         finished = true;
                     }
-                    if (finished) {
-                        hits[i] = hit;
-                        fill(p, k);
-                    }
                 }
-                any = any || p.active[k] != 0;
+                if (!finished && p.exitEnds[k]) {
+                    // cellsHit's rule at the box exit (toExit)
+                    if (p.pastEnd[k] && exitsThroughFloor(s, ray, p.tb[k]))
+                        setHit(ray, p.tb[k], hit);
+                    finished = true;
+                }
+                if (finished) {
+                    hits[i] = hit;
+                    fill(p, k);
+                }
             }
             // The flags are per pass.
             hn::Store(zeroI, di, p.candidate);
             hn::Store(zeroI, di, p.exitEnds);
-            return any;
+            return !hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)));
         }
     }
 };
