@@ -42,16 +42,22 @@ void setLaneRay(Packet& p, size_t lane, const Ray& ray) {
 
 // A lane's ray and cellsHit's per-ray constants (cell_walk.h: the step per axis, 1/d and the
 // exit side's offset), into a packet's arrays of those names.
+// invX, invY: 1 / d.x and 1 / d.y, where the caller has them already.
 template <class Packet>
-void setCellWalkRay(Packet& p, size_t lane, const Ray& ray) {
+void setCellWalkRay(Packet& p, size_t lane, const Ray& ray, float invX, float invY) {
     setLaneRay(p, lane, ray);
     const vec3& d = ray.direction;
     p.stepX[lane] = d.x > 0.0f ? 1 : (d.x < 0.0f ? -1 : 0);
     p.stepY[lane] = d.y > 0.0f ? 1 : (d.y < 0.0f ? -1 : 0);
-    p.invX[lane] = 1.0f / d.x;
-    p.invY[lane] = 1.0f / d.y;
+    p.invX[lane] = invX;
+    p.invY[lane] = invY;
     p.exitX[lane] = p.stepX[lane] > 0 ? 1.5f : 0.5f;
     p.exitY[lane] = p.stepY[lane] > 0 ? 1.5f : 0.5f;
+}
+
+template <class Packet>
+void setCellWalkRay(Packet& p, size_t lane, const Ray& ray) {
+    setCellWalkRay(p, lane, ray, 1.0f / ray.direction.x, 1.0f / ray.direction.y);
 }
 
 // Asks for the line of base[index] in every lane ahead of its gather: the packet walks know an

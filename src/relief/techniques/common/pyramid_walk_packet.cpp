@@ -65,7 +65,7 @@ struct Walk {
         alignas(64) int32_t level[kChunk], px[kChunk], py[kChunk], baseX[kChunk], baseY[kChunk],
             stepX[kChunk], stepY[kChunk], exitMaskX[kChunk], exitMaskY[kChunk];
         size_t chunk = ~size_t(0);  // the chunk's first ray
-    } starts;
+    } starts{};
 
     void makeStarts() {
         const DF df;

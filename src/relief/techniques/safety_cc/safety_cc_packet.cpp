@@ -58,7 +58,6 @@ struct Packet {
     alignas(64) int32_t candidate[kLanes], exitEnds[kLanes], pastEnd[kLanes];
     alignas(64) int32_t cellI[kLanes], cellJ[kLanes];
     alignas(64) float cellTa[kLanes], cellTc[kLanes];
-    Walk walk[kLanes];
     size_t index[kLanes];
 };
 
@@ -73,15 +72,127 @@ struct March {
     std::span<Hit> hits;
     ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
 
-    // A cell walk (cellsHit) over [ta, tb], then the march from `resume` or the end of the ray.
-    void beginCells(Packet& p, size_t k, float ta, float tb, int resume, bool toExit) const {
-        p.phase[k] = kCells;
-        p.ta[k] = ta;
-        p.tb[k] = tb;
-        p.ci[k] = s.cellOfX(p.ox[k] + ta * p.dx[k]);  // ray.at(ta)
-        p.cj[k] = s.cellOfY(p.oy[k] + ta * p.dy[k]);
-        p.resume[k] = resume;
-        p.toExit[k] = toExit ? -1 : 0;
+    // Where a class's map and the heights lie along its axes A and B: map.at(cls, i, j) and
+    // sampleZ(i, j), with (i, j) = (a, b) on axis 0, (b, a) on axis 1.
+    struct ClassLayout {
+        int32_t lenA, lenB, texelBase, texelA, texelB, heightA, heightB;
+    };
+    ClassLayout classLayout(int cls) const {
+        const int width = s.width(), height = s.height(), axis = cls / 2;
+        const int mapClass = tracer.shape().map().classes == 1 ? 0 : cls;
+        return {axis == 0 ? width : height, axis == 0 ? height : width,
+                mapClass * height * width,  axis == 0 ? 1 : width,
+                axis == 0 ? width : 1,      axis == 0 ? 1 : width + 2,
+                axis == 0 ? width + 2 : 1};
+    }
+    const ClassLayout layouts[4] = {classLayout(0), classLayout(1), classLayout(2), classLayout(3)};
+    // Whether no ray can fall back on the exact walk for its direction or origin (φ_max = 90°, no
+    // exterior maps): the starts are then made across lanes.
+    const bool startsAcrossLanes = !std::isfinite(safety::tanPhiMax(tracer.options().phiMaxDeg)) &&
+                                   !tracer.options().exterior;
+
+    // The feed's current chunk's starts (SafetyTracer::setUp, the reciprocals of cellsHit, the
+    // entry walk's span and first cell), made a chunk at a time: across lanes where
+    // startsAcrossLanes, the same operations in the same order as setUp and Surface::cellOfX; lane by
+    // lane, by setUp itself, for the chunk's tail and the other options. A lane's start was a
+    // seventh of the march's time.
+    struct Starts {
+        static constexpr size_t kChunk = ray_feed::RayFeed::kChunk;
+        alignas(64) float oA[kChunk], oB[kChunk], dB[kChunk], invA[kChunk], rise[kChunk];
+        alignas(64) float invX[kChunk], invY[kChunk], firstT[kChunk];
+        alignas(64) int32_t k0[kChunk], sign[kChunk], count[kChunk], cls[kChunk];
+        alignas(64) int32_t marches[kChunk], ci[kChunk], cj[kChunk];
+        size_t chunk = ~size_t(0);  // the chunk's first ray
+    } starts{};
+
+    void makeStarts() {
+        const DF df;
+        const DI di;
+        const size_t n = hn::Lanes(df), begin = feed.chunkBegin();
+        const size_t count = feed.chunkEnd() - begin;
+        const size_t whole = startsAcrossLanes ? count / n * n : 0;
+        const float* base = &rays[begin].origin.x;  // the chunk's rays: small gather offsets
+        const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
+        const VI oneI = hn::Set(di, 1), minusOne = hn::Set(di, -1);
+        const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
+        for (size_t k = 0; k < whole; k += n) {
+            const VI index = hn::Mul(hn::Iota(di, int32_t(k)), hn::Set(di, 7));
+            const auto field = [&](int32_t c) {
+                return hn::GatherIndex(df, base, hn::Add(index, hn::Set(di, c)));
+            };
+            const VF ox = field(0), oy = field(1), dx = field(3), dy = field(4), dz = field(5);
+            const VF tEnter = hn::Load(df, feed.chunkEnter() + k);
+            const VF tExit = hn::Load(df, feed.chunkExit() + k);
+            // setUp: the axis A of the larger horizontal component, its direction and class
+            const MF alongY = hn::Lt(hn::Abs(dx), hn::Abs(dy));
+            const VF dA = hn::IfThenElse(alongY, dy, dx);
+            const MF forward = hn::Gt(dA, zero);
+            const VI sign = hn::IfThenElse(hn::RebindMask(di, forward), oneI, minusOne);
+            const VI cls = hn::Add(hn::IfThenElseZero(hn::RebindMask(di, alongY), hn::Set(di, 2)),
+                                   hn::IfThenZeroElse(hn::RebindMask(di, forward), oneI));
+            const VF oA = hn::Sub(hn::IfThenElse(alongY, oy, ox), half);
+            const VF oB = hn::Sub(hn::IfThenElse(alongY, ox, oy), half);
+            const VF invA = hn::Div(one, dA);
+            const VF aEnter = hn::Add(oA, hn::Mul(tEnter, dA));
+            const VF aExit = hn::Add(oA, hn::Mul(tExit, dA));
+            const MF flat = hn::Or(hn::Eq(dA, zero),
+                                   hn::Not(hn::And(hn::IsFinite(aEnter), hn::IsFinite(aExit))));
+            const VI k0 = hn::ConvertTo(
+                di, hn::IfThenElse(forward, hn::Ceil(aEnter), hn::Floor(aEnter)));
+            const VI kL = hn::ConvertTo(
+                di, hn::IfThenElse(forward, hn::Floor(aExit), hn::Ceil(aExit)));
+            const VI centerlines = hn::Mul(hn::Sub(kL, k0), sign);
+            const MI marches = hn::AndNot(
+                hn::RebindMask(di, flat),
+                hn::Not(hn::Lt(centerlines, hn::Set(di, safety::kMinCenterlines))));
+            // Walk::tOf(0), and the entry walk's first cell: that of ray.at(tEnter)
+            const VF t0 = hn::Mul(hn::Sub(hn::ConvertTo(df, k0), oA), invA);
+            const VF firstT = hn::IfThenElse(hn::Lt(t0, tEnter), tEnter,
+                                             hn::IfThenElse(hn::Lt(tExit, t0), tExit, t0));
+            const auto cellOf = [&](VF o, VF d, VI last) {
+                const VF x = hn::Add(o, hn::Mul(tEnter, d));
+                return hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(x, half))), minusOne),
+                               last);
+            };
+            hn::Store(oA, df, starts.oA + k);
+            hn::Store(oB, df, starts.oB + k);
+            hn::Store(hn::IfThenElse(alongY, dx, dy), df, starts.dB + k);
+            hn::Store(invA, df, starts.invA + k);
+            hn::Store(hn::Mul(dz, hn::Abs(invA)), df, starts.rise + k);
+            hn::Store(hn::Div(one, dx), df, starts.invX + k);
+            hn::Store(hn::Div(one, dy), df, starts.invY + k);
+            hn::Store(firstT, df, starts.firstT + k);
+            hn::Store(k0, di, starts.k0 + k);
+            hn::Store(sign, di, starts.sign + k);
+            hn::Store(centerlines, di, starts.count + k);
+            hn::Store(cls, di, starts.cls + k);
+            hn::Store(hn::VecFromMask(di, marches), di, starts.marches + k);
+            hn::Store(cellOf(ox, dx, lastX), di, starts.ci + k);
+            hn::Store(cellOf(oy, dy, lastY), di, starts.cj + k);
+        }
+        for (size_t k = whole; k < count; ++k) {  // lane by lane
+            const RayInterval span{feed.chunkEnter()[k], feed.chunkExit()[k]};
+            if (span.empty()) continue;
+            const Ray& ray = rays[begin + k];
+            Walk w;
+            starts.marches[k] = tracer.setUp(ray, span, w) ? -1 : 0;
+            if (!starts.marches[k]) continue;
+            starts.oA[k] = w.oA;
+            starts.oB[k] = w.oB;
+            starts.dB[k] = w.dB;
+            starts.invA[k] = w.invA;
+            starts.rise[k] = w.rise;
+            starts.invX[k] = 1.0f / ray.direction.x;
+            starts.invY[k] = 1.0f / ray.direction.y;
+            starts.firstT[k] = w.tOf(0);
+            starts.k0[k] = w.k0;
+            starts.sign[k] = w.sign;
+            starts.count[k] = w.count;
+            starts.cls[k] = w.cls;
+            starts.ci[k] = s.cellOfX(ray.origin.x + span.tEnter * ray.direction.x);
+            starts.cj[k] = s.cellOfY(ray.origin.y + span.tEnter * ray.direction.y);
+        }
+        starts.chunk = begin;
     }
 
     // Puts the batch's next ray that the march follows into `lane` (as trace starts it), or parks
@@ -91,48 +202,53 @@ struct March {
             size_t i;
             RayInterval span;
             if (!feed.next(i, span)) return park(p, lane);
+            if (feed.chunkBegin() != starts.chunk) makeStarts();
+            const size_t k = i - starts.chunk;
             const Ray& ray = rays[i];
-            Walk& w = p.walk[lane];
-            if (!tracer.setUp(ray, span, w)) {
+            if (!starts.marches[k]) {
                 Hit hit;
                 cellsHit(s, ray, span.tEnter, span.tExit, true, hit);
                 hits[i] = hit;
                 continue;
             }
-            packet_lanes::setCellWalkRay(p, lane, ray);
-            p.oA[lane] = w.oA;
-            p.oB[lane] = w.oB;
-            p.dB[lane] = w.dB;
-            p.invA[lane] = w.invA;
-            p.rise[lane] = w.rise;
-            p.tEnter[lane] = w.tEnter;
-            p.tExit[lane] = w.tExit;
-            p.k0[lane] = w.k0;
-            p.sign[lane] = w.sign;
-            p.count[lane] = w.count;
-            const int width = s.width(), height = s.height();
-            const auto& map = tracer.shape().map();
-            const int cls = map.classes == 1 ? 0 : w.cls;
-            p.lenA[lane] = w.axis == 0 ? width : height;
-            p.lenB[lane] = w.axis == 0 ? height : width;
-            // map.at(cls, i, j) and sampleZ(i, j), with (i, j) = (a, b) on axis 0, (b, a) on 1
-            p.texelBase[lane] = cls * height * width;
-            p.texelA[lane] = w.axis == 0 ? 1 : width;
-            p.texelB[lane] = w.axis == 0 ? width : 1;
-            p.heightA[lane] = w.axis == 0 ? 1 : width + 2;
-            p.heightB[lane] = w.axis == 0 ? width + 2 : 1;
+            packet_lanes::setCellWalkRay(p, lane, ray, starts.invX[k], starts.invY[k]);
+            p.oA[lane] = starts.oA[k];
+            p.oB[lane] = starts.oB[k];
+            p.dB[lane] = starts.dB[k];
+            p.invA[lane] = starts.invA[k];
+            p.rise[lane] = starts.rise[k];
+            p.tEnter[lane] = span.tEnter;
+            p.tExit[lane] = span.tExit;
+            p.k0[lane] = starts.k0[k];
+            p.sign[lane] = starts.sign[k];
+            p.count[lane] = starts.count[k];
+            const ClassLayout& c = layouts[starts.cls[k]];
+            p.lenA[lane] = c.lenA;
+            p.lenB[lane] = c.lenB;
+            p.texelBase[lane] = c.texelBase;
+            p.texelA[lane] = c.texelA;
+            p.texelB[lane] = c.texelB;
+            p.heightA[lane] = c.heightA;
+            p.heightB[lane] = c.heightB;
             p.n[lane] = p.lo[lane] = p.hi[lane] = 0;
             p.steps[lane] = p.fetches[lane] = 0;
             p.active[lane] = -1;
             p.index[lane] = i;
-            beginCells(p, lane, span.tEnter, w.tOf(0), 0, false);  // up to the first centerline
+            // The walk up to the first centerline, then the march from centerline 0.
+            const float firstT = starts.firstT[k];
+            p.phase[lane] = kCells;
+            p.ta[lane] = span.tEnter;
+            p.tb[lane] = firstT;
+            p.ci[lane] = starts.ci[k];
+            p.cj[lane] = starts.cj[k];
+            p.resume[lane] = 0;
+            p.toExit[lane] = 0;
             // The march's first fetch, at centerline 0 once the entry cells are walked: asked
             // for now (fetchStep's texel; see pass's texelOf).
-            const int a = std::clamp(w.k0, 0, p.lenA[lane] - 1);
-            const int b = std::clamp(int(std::floor(w.oB + w.tOf(0) * w.dB + 0.5f)), 0,
-                                     p.lenB[lane] - 1);
-            hwy::Prefetch(texels + 4 * (p.texelBase[lane] + a * p.texelA[lane] +
-                                        b * p.texelB[lane]));
+            const int a = std::clamp(starts.k0[k], 0, c.lenA - 1);
+            const int b = std::clamp(int(std::floor(starts.oB[k] + firstT * starts.dB[k] + 0.5f)),
+                                     0, c.lenB - 1);
+            hwy::Prefetch(texels + 4 * (c.texelBase + a * c.texelA + b * c.texelB));
             return;
         }
     }
@@ -160,7 +276,6 @@ struct March {
     bool pass(Packet& p) {
         const DF df;
         const DI di;
-        const size_t lanes = hn::Lanes(df);
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), twoI = hn::Set(di, 2),
                  fourI = hn::Set(di, 4), minusOne = hn::Set(di, -1);
         const VF zero = hn::Zero(df), half = hn::Set(df, 0.5f);
