@@ -38,7 +38,6 @@ struct Packet {
     alignas(64) int32_t candidate[kLanes], done[kLanes];
     alignas(64) float tc[kLanes];
     size_t index[kLanes];
-    bool finished[kLanes];  // done by the scalar part (hit written)
 };
 
 struct Walk {
@@ -82,7 +81,6 @@ struct Walk {
     void run(Packet& p) {
         const DF df;
         const DI di;
-        const size_t n = hn::Lanes(df);
         const bool clamp = s.edge() == EdgeMode::Clamp;
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
         const VF zero = hn::Zero(df);
@@ -171,9 +169,8 @@ struct Walk {
             hn::Store(tc, df, p.tc);
             hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
             hn::Store(hn::VecFromMask(di, exits), di, p.done);
-            for (size_t k = 0; k < n; ++k) {
-                p.finished[k] = false;
-                if (!p.candidate[k] && !p.done[k]) continue;
+            uint64_t finished = 0;  // lanes whose hit is written: bit k
+            ForEachLane(hn::Or(candidate, exits), [&](size_t k) {
                 const size_t i = p.index[k];
                 const Ray& ray = rays[i];
                 Hit hit;
@@ -186,16 +183,16 @@ struct Walk {
                     if (t <= tCell) {
                         setHit(ray, t, hit);
                         hits[i] = hit;
-                        p.finished[k] = true;
-                        continue;
+                        finished |= uint64_t(1) << k;
+                        return;
                     }
                 }
-                if (!p.done[k]) continue;
+                if (!p.done[k]) return;
                 if (p.tc[k] >= p.tb[k] && exitsThroughFloor(s, ray, p.tb[k]))
                     setHit(ray, p.tb[k], hit);  // cellsHit's rule at the box exit (toExit)
                 hits[i] = hit;
-                p.finished[k] = true;
-            }
+                finished |= uint64_t(1) << k;
+            });
             // Lanes that go on move to their next cell; finished ones take new rays.
             const MI goesOn = hn::AndNot(hn::MaskFromVec(hn::Load(di, p.done)), act);
             hn::Store(hn::IfThenElse(hn::RebindMask(df, goesOn), tc, ta), df, p.ta);
@@ -203,12 +200,8 @@ struct Walk {
             hn::Store(hn::IfThenElse(goesOn, cjNext, cj), di, p.cj);
             hn::Store(hn::IfThenElse(goesOn, wiNext, wi), di, p.wi);
             hn::Store(hn::IfThenElse(goesOn, wjNext, wj), di, p.wj);
-            bool any = false;
-            for (size_t k = 0; k < n; ++k) {
-                if (p.finished[k]) fill(p, k);
-                any = any || p.active[k] != 0;
-            }
-            if (!any) return;
+            ForEachLane(finished, [&](size_t k) { fill(p, k); });
+            if (hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)))) return;
             reload();
         }
     }

@@ -13,7 +13,10 @@
 #include <hwy/highway.h>
 #include <relief/core/math.h>
 
+#include <bit>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 
 HWY_BEFORE_NAMESPACE();
 namespace relief {
@@ -69,6 +72,22 @@ HWY_INLINE void PrefetchLanes(const T* base, VI index) {
     alignas(64) int32_t ahead[kLanes];
     hn::Store(index, di, ahead);
     for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(base + ahead[k]);
+}
+
+// f(k) for every lane k set in `lanes`, in lane order: the scalar parts of the packet walks
+// visit the few lanes that end a ray, not all of them (a branch per lane mispredicts).
+template <class F>
+HWY_INLINE void ForEachLane(uint64_t lanes, F&& f) {  // lane k: bit k
+    for (; lanes != 0; lanes &= lanes - 1) f(size_t(std::countr_zero(lanes)));
+}
+
+template <class F>
+HWY_INLINE void ForEachLane(MI lanes, F&& f) {
+    uint8_t bytes[8] = {};
+    hn::StoreMaskBits(DI(), lanes, bytes);
+    uint64_t bits = 0;
+    std::memcpy(&bits, bytes, sizeof(bits));
+    ForEachLane(bits, f);
 }
 
 }  // namespace packet_lanes

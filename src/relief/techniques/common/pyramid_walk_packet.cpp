@@ -38,7 +38,7 @@ struct Packet {
     alignas(64) float invX[kLanes], invY[kLanes], invZ[kLanes], tExit[kLanes], slack[kLanes];
     alignas(64) int32_t stepX[kLanes], stepY[kLanes], exitMaskX[kLanes], exitMaskY[kLanes];
     alignas(64) int32_t active[kLanes], steps[kLanes], fetches[kLanes];
-    alignas(64) int32_t leafHit[kLanes], done[kLanes];
+    alignas(64) int32_t leafHit[kLanes];
     alignas(64) float leafT[kLanes];
     size_t index[kLanes];
 };
@@ -206,7 +206,6 @@ struct Walk {
     void run(Packet& p) {
         const DF df;
         const DI di;
-        const size_t n = hn::Lanes(df);
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
         const VF inf = hn::Set(df, kInfinity);
         const VF edge = hn::Set(df, layout.edge);
@@ -397,10 +396,8 @@ struct Walk {
         const MI done = hn::Or(leafHits, leaves);
         if (hn::AllFalse(di, done)) continue;
         spill();
-        hn::Store(hn::VecFromMask(di, done), di, p.done);
         hn::Store(hn::VecFromMask(di, leafHits), di, p.leafHit);
-        for (size_t k = 0; k < n; ++k) {
-            if (!p.done[k]) continue;
+        ForEachLane(done, [&](size_t k) {
             const size_t i = p.index[k];
             const Ray& ray = rays[i];
             if (p.leafHit[k])
@@ -410,10 +407,8 @@ struct Walk {
                               ? makeHit(ray, p.tExit[k], p.steps[k], p.fetches[k])
                               : makeMiss(p.steps[k], p.fetches[k]);
             fill(p, k);
-        }
-        bool any = false;
-        for (size_t k = 0; k < n; ++k) any = any || p.active[k] != 0;
-        if (!any) return;
+        });
+        if (hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)))) return;
         reload();
         }
     }

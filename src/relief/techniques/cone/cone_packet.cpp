@@ -144,7 +144,6 @@ struct March {
     HWY_INLINE bool step(Packet& p, Lanes& r) {
         const DF df;
         const DI di;
-        const size_t n = hn::Lanes(df);
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), fourI = hn::Set(di, 4);
         const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
         const VF stall = hn::Set(df, limits.stall);
@@ -222,9 +221,7 @@ struct March {
         hn::Store(ci, di, p.ci);
         hn::Store(cj, di, p.cj);
         hn::Store(t, df, p.tStart);
-        bool any = false;
-        for (size_t k = 0; k < n; ++k) {
-            if (p.active[k] == 0) continue;
+        ForEachLane(mayEnd, [&](size_t k) {
             const size_t i = p.index[k];
             const Ray& ray = rays[i];
             bool finished = false;
@@ -255,8 +252,8 @@ struct March {
                 }
             }
             if (finished) fill(p, k);
-            any = any || p.active[k] != 0;
-        }
+        });
+        const bool any = !hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)));
         if (any) load(p, r);
         return any;
     }

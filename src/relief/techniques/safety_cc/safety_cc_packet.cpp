@@ -15,9 +15,7 @@
 #include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/safety_cc/safety_cc_packet.h>
 
-#include <bit>
 #include <cstdint>
-#include <cstring>
 #include <limits>
 
 HWY_BEFORE_NAMESPACE();
@@ -499,12 +497,7 @@ struct March {
 
             // Lanes whose cell may hold the hit (the root, scalar) or whose ray ends here: only
             // the lanes flagged (a branch per flagged lane, not one per lane).
-            uint8_t flagged[8] = {};
-            hn::StoreMaskBits(di, events, flagged);
-            uint64_t bits = 0;
-            std::memcpy(&bits, flagged, sizeof(bits));
-            for (; bits != 0; bits &= bits - 1) {
-                const size_t k = size_t(std::countr_zero(bits));
+            ForEachLane(events, [&](size_t k) {
                 const size_t i = p.index[k];
                 const Ray& ray = rays[i];
                 Hit hit;
@@ -530,7 +523,7 @@ struct March {
                     hits[i] = hit;
                     fill(p, k);
                 }
-            }
+            });
             // The flags are per pass.
             hn::Store(zeroI, di, p.candidate);
             hn::Store(zeroI, di, p.exitEnds);
