@@ -31,14 +31,21 @@ namespace hn = hwy::HWY_NAMESPACE;
 // The gathers read a ray as 7 floats: origin, direction, tMax.
 static_assert(sizeof(Ray) == 7 * sizeof(float));
 
+// A ray's field c (0-2 origin, 3-5 direction, 6 tMax) across lanes, for the lanes' rays
+// rays[first + lane].
+template <class DF>
+HWY_INLINE hn::Vec<DF> GatherRayField(DF df, const Ray* rays, size_t first, int32_t c) {
+    const hn::RebindToSigned<DF> di;
+    const auto index = hn::Mul(hn::Iota(di, 0), hn::Set(di, 7));
+    return hn::GatherIndex(df, &rays[first].origin.x, hn::Add(index, hn::Set(di, c)));
+}
+
 // Surface::clip for rays[0, count), count a multiple of Lanes(df): tEnter and tExit per ray
 // (RayInterval{} = {0, -1} where clip returns it).
 template <class DF>
 HWY_INLINE void ClipRays(DF df, const Surface& s, const Ray* rays, size_t count, float* tEnter,
                          float* tExit) {
     using VF = hn::Vec<DF>;
-    const hn::RebindToSigned<DF> di;
-    const float* base = &rays[0].origin.x;
     const VF zero = hn::Zero(df), minusOne = hn::Set(df, -1.0f), one = hn::Set(df, 1.0f);
     const VF limit = hn::Set(df, Surface::kMaxOriginCoordinate);
     const VF depth = hn::Set(df, s.depth()), maxZ = hn::Set(df, s.maxZ());
@@ -48,10 +55,7 @@ HWY_INLINE void ClipRays(DF df, const Surface& s, const Ray* rays, size_t count,
         hn::Set(df, Surface::kRepeatTravelFactor * float(std::max(s.width(), s.height())));
     const size_t lanes = hn::Lanes(df);
     for (size_t k = 0; k < count; k += lanes) {
-        const auto index = hn::Mul(hn::Iota(di, int32_t(k)), hn::Set(di, 7));
-        const auto field = [&](int32_t c) {
-            return hn::GatherIndex(df, base, hn::Add(index, hn::Set(di, c)));
-        };
+        const auto field = [&](int32_t c) { return GatherRayField(df, rays, k, c); };
         const VF ox = field(0), oy = field(1), oz = field(2);
         const VF dx = field(3), dy = field(4), dz = field(5), tMax = field(6);
         // clip's refusals: not finite, no direction, tMax not > 0, too far away.

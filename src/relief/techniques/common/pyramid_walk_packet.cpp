@@ -73,7 +73,6 @@ struct Walk {
         const size_t n = hn::Lanes(df), begin = feed.chunkBegin();
         const size_t count = feed.chunkEnd() - begin;
         const size_t whole = layout.repeat ? 0 : count / n * n;
-        const float* base = &rays[begin].origin.x;  // the chunk's rays: small gather offsets
         const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
         const VF edge = hn::Set(df, layout.edge), depth = hn::Set(df, s.depth());
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), minusOne = hn::Set(di, -1);
@@ -82,9 +81,8 @@ struct Walk {
         const VI cellsX = hn::Set(di, layout.cellsX), cellsY = hn::Set(di, layout.cellsY);
         const VI lastX = hn::Set(di, layout.cellsX - 1), lastY = hn::Set(di, layout.cellsY - 1);
         for (size_t k = 0; k < whole; k += n) {
-            const VI index = hn::Mul(hn::Iota(di, int32_t(k)), hn::Set(di, 7));
-            const auto field = [&](int32_t c) {
-                return hn::GatherIndex(df, base, hn::Add(index, hn::Set(di, c)));
+            const auto field = [&](int32_t c) {  // the chunk's rays: small gather offsets
+                return ray_feed::GatherRayField(df, rays.data(), begin + k, c);
             };
             const VF ox = field(0), oy = field(1), oz = field(2);
             const VF dx = field(3), dy = field(4), dz = field(5);

@@ -109,14 +109,12 @@ struct March {
         const size_t n = hn::Lanes(df), begin = feed.chunkBegin();
         const size_t count = feed.chunkEnd() - begin;
         const size_t whole = startsAcrossLanes ? count / n * n : 0;
-        const float* base = &rays[begin].origin.x;  // the chunk's rays: small gather offsets
         const VF zero = hn::Zero(df), one = hn::Set(df, 1.0f), half = hn::Set(df, 0.5f);
         const VI oneI = hn::Set(di, 1), minusOne = hn::Set(di, -1);
         const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
         for (size_t k = 0; k < whole; k += n) {
-            const VI index = hn::Mul(hn::Iota(di, int32_t(k)), hn::Set(di, 7));
-            const auto field = [&](int32_t c) {
-                return hn::GatherIndex(df, base, hn::Add(index, hn::Set(di, c)));
+            const auto field = [&](int32_t c) {  // the chunk's rays: small gather offsets
+                return ray_feed::GatherRayField(df, rays.data(), begin + k, c);
             };
             const VF ox = field(0), oy = field(1), dx = field(3), dy = field(4), dz = field(5);
             const VF tEnter = hn::Load(df, feed.chunkEnter() + k);

@@ -17,8 +17,10 @@
 //   texel of a lane's next fetch is prefetched as soon as its centerline is known (a jump's
 //   target, where a walk resumes, a new ray's first centerline): its load overlaps the height
 //   gathers and the other packet's pass instead of stalling the jump.
-// Per lane, scalar: the setup (class, first and last centerline: SafetyTracer::setUp; the clip
-//   is SIMD, surface/ray_feed-inl.h), the rays the march gives to the exact walk (outside
+// Per lane, scalar: the setup where a ray may fall back (φ_max < 90°, exterior maps) and for a
+//   chunk's tail (class, first and last centerline: SafetyTracer::setUp; otherwise the same
+//   operations across lanes, 64 rays at a time; the clip is SIMD, surface/ray_feed-inl.h), the
+//   copy of a start into its lane, the rays the march gives to the exact walk (outside
 //   φ_max, exterior maps with an interior origin, near-vertical rays: cellsHit over the span, as
 //   trace does), the root once the signs say a cell holds the hit (firstHitInCell, in double),
 //   the floor rule at the box exit.
