@@ -197,8 +197,10 @@ struct March {
         }
         // The next step's texel, asked for now: its load then overlaps the rest of this step
         // and the other packet's (the gather at the top of the next step would wait for it).
+        // At most tExit: a step may be infinite (a ray that rises faster than its cone opens).
         {
-            const VF qx = hn::Add(ox, hn::Mul(tNext, dx)), qy = hn::Add(oy, hn::Mul(tNext, dy));
+            const VF tAhead = hn::Min(tNext, tExit);
+            const VF qx = hn::Add(ox, hn::Mul(tAhead, dx)), qy = hn::Add(oy, hn::Mul(tAhead, dy));
             const VI jx = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qx)), zeroI), lastX);
             const VI jy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qy)), zeroI), lastY);
             PrefetchLanes(cones, hn::ShiftLeft<1>(hn::Add(hn::Mul(jy, width), jx)));

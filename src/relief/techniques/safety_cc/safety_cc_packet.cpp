@@ -129,24 +129,30 @@ struct March {
             const VF oA = hn::Sub(hn::IfThenElse(alongY, oy, ox), half);
             const VF oB = hn::Sub(hn::IfThenElse(alongY, ox, oy), half);
             const VF invA = hn::Div(one, dA);
-            const VF aEnter = hn::Add(oA, hn::Mul(tEnter, dA));
-            const VF aExit = hn::Add(oA, hn::Mul(tExit, dA));
-            const MF flat = hn::Or(hn::Eq(dA, zero),
-                                   hn::Not(hn::And(hn::IsFinite(aEnter), hn::IsFinite(aExit))));
+            const MF entered = hn::Le(tEnter, tExit);  // !span.empty()
+            const VF aEnterRay = hn::Add(oA, hn::Mul(tEnter, dA));
+            const VF aExitRay = hn::Add(oA, hn::Mul(tExit, dA));
+            const MF flat = hn::Or(hn::Eq(dA, zero), hn::Not(hn::And(hn::IsFinite(aEnterRay),
+                                                                     hn::IsFinite(aExitRay))));
+            // Lanes that miss the box or are flat never march: 0 keeps their conversions to
+            // int defined (such a ray's position may be anything, NaN or far away).
+            const MF spans = hn::AndNot(flat, entered);
+            const VF aEnter = hn::IfThenElseZero(spans, aEnterRay);
+            const VF aExit = hn::IfThenElseZero(spans, aExitRay);
             const VI k0 = hn::ConvertTo(
                 di, hn::IfThenElse(forward, hn::Ceil(aEnter), hn::Floor(aEnter)));
             const VI kL = hn::ConvertTo(
                 di, hn::IfThenElse(forward, hn::Floor(aExit), hn::Ceil(aExit)));
             const VI centerlines = hn::Mul(hn::Sub(kL, k0), sign);
-            const MI marches = hn::AndNot(
-                hn::RebindMask(di, flat),
+            const MI marches = hn::And(
+                hn::RebindMask(di, spans),
                 hn::Not(hn::Lt(centerlines, hn::Set(di, safety::kMinCenterlines))));
             // Walk::tOf(0), and the entry walk's first cell: that of ray.at(tEnter)
             const VF t0 = hn::Mul(hn::Sub(hn::ConvertTo(df, k0), oA), invA);
             const VF firstT = hn::IfThenElse(hn::Lt(t0, tEnter), tEnter,
                                              hn::IfThenElse(hn::Lt(tExit, t0), tExit, t0));
             const auto cellOf = [&](VF o, VF d, VI last) {
-                const VF x = hn::Add(o, hn::Mul(tEnter, d));
+                const VF x = hn::IfThenElseZero(entered, hn::Add(o, hn::Mul(tEnter, d)));
                 return hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(hn::Sub(x, half))), minusOne),
                                last);
             };
