@@ -101,9 +101,13 @@ struct Walk {
             const VF extent = hn::Add(
                 hn::Add(hn::Add(hn::Add(hn::Abs(ox), hn::Abs(oy)), hn::Abs(oz)), tExit), depth);
             const VF slack = hn::Mul(hn::Set(df, kWalkSlack), extent);
-            // startCell (clamp): cellOfX of the position, one further along the ray if `ahead`
+            // startCell (clamp): cellOfX of the position, one further along the ray if `ahead`.
+            // Lanes that miss the box take 0 (their position may be anything, NaN or far away:
+            // the single-lane target converts with a plain cast).
+            const MF entered = hn::Le(tEnter, tExit);  // !span.empty()
             const auto cell = [&](VF o, VF d, VF t, VI lastCell, VI step, VI last, bool ahead) {
-                VI c = hn::ConvertTo(di, hn::Floor(hn::Sub(hn::Add(o, hn::Mul(t, d)), half)));
+                const VF x = hn::IfThenElseZero(entered, hn::Add(o, hn::Mul(t, d)));
+                VI c = hn::ConvertTo(di, hn::Floor(hn::Sub(x, half)));
                 c = hn::Min(hn::Max(c, minusOne), lastCell);
                 if (ahead) c = hn::Add(c, step);
                 return hn::Min(hn::Max(hn::Sub(c, firstCell), zeroI), last);
