@@ -1,7 +1,8 @@
 // The vector types of the packet walks (surface/cell_walk_packet.cpp, cone/cone_packet.cpp,
-// common/pyramid_walk_packet.cpp), per Highway target (the -inl.h convention of
-// cell_test-inl.h): a lane per ray, floats and int32 of the same width, and the size of the
-// lane arrays that hold the lanes' state between vector passes.
+// common/pyramid_walk_packet.cpp, safety_cc/safety_cc_packet.cpp), per Highway target (the -inl.h
+// convention of cell_test-inl.h): a lane per ray, floats and int32 of the same width, the size of
+// the lane arrays that hold the lanes' state between vector passes, and what the walks do lane
+// by lane (a lane's ray into the arrays, prefetches by lane, a loop over the lanes of a mask).
 #if defined(RELIEF_SURFACE_PACKET_LANES_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SURFACE_PACKET_LANES_INL_H_
 #undef RELIEF_SURFACE_PACKET_LANES_INL_H_
