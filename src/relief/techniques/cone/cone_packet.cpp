@@ -156,12 +156,16 @@ struct March {
 
         r.steps = hn::Add(r.steps, hn::IfThenElseZero(act, oneI));
         r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(act, oneI));
-        // p = ray.at(t); the map's texel there (ConeMap::at, clamp mode)
+        // The map's texel at (x, y) (ConeMap::at, clamp mode), as the index of its a.
+        const auto texelAt = [&](VF x, VF y) {
+            const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(x)), zeroI), lastX);
+            const VI iy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(y)), zeroI), lastY);
+            return hn::ShiftLeft<1>(hn::Add(hn::Mul(iy, width), ix));
+        };
+        // p = ray.at(t); the map's texel there
         const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
         const VF pz = hn::Add(oz, hn::Mul(t, dz));
-        const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(px)), zeroI), lastX);
-        const VI iy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(py)), zeroI), lastY);
-        const VI texel = hn::ShiftLeft<1>(hn::Add(hn::Mul(iy, width), ix));
+        const VI texel = texelAt(px, py);
         const VF a = hn::GatherIndex(df, cones, texel);
         const VF c = hn::GatherIndex(df, cones, hn::Add(texel, oneI));
         // coneStep where the position is in the frustum and above the floor, else -∞
@@ -200,10 +204,8 @@ struct March {
         // At most tExit: a step may be infinite (a ray that rises faster than its cone opens).
         {
             const VF tAhead = hn::Min(tNext, tExit);
-            const VF qx = hn::Add(ox, hn::Mul(tAhead, dx)), qy = hn::Add(oy, hn::Mul(tAhead, dy));
-            const VI jx = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qx)), zeroI), lastX);
-            const VI jy = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(qy)), zeroI), lastY);
-            PrefetchLanes(cones, hn::ShiftLeft<1>(hn::Add(hn::Mul(jy, width), jx)));
+            PrefetchLanes(cones, texelAt(hn::Add(ox, hn::Mul(tAhead, dx)),
+                                         hn::Add(oy, hn::Mul(tAhead, dy))));
         }
         const MI capped = hn::And(act, hn::Eq(r.steps, maxSteps));
         const MI mayEnd = hn::Or(hn::Or(leaves, candidate), hn::Or(cellExit, capped));

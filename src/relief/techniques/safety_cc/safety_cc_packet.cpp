@@ -52,7 +52,8 @@ struct Packet {
     alignas(64) float ta[kLanes], tb[kLanes];
     alignas(64) int32_t ci[kLanes], cj[kLanes], resume[kLanes], toExit[kLanes];
     alignas(64) int32_t steps[kLanes], fetches[kLanes], active[kLanes];
-    // Written for the scalar part: a cell that may hold the hit, a walk to the exit that ended.
+    // Written in a pass with events, for its scalar part (which reads only those lanes): a cell
+    // that may hold the hit, a walk to the exit that ended.
     alignas(64) int32_t candidate[kLanes], exitEnds[kLanes], pastEnd[kLanes];
     alignas(64) int32_t cellI[kLanes], cellJ[kLanes];
     alignas(64) float cellTa[kLanes], cellTc[kLanes];
@@ -528,9 +529,6 @@ struct March {
                     fill(p, k);
                 }
             });
-            // The flags are per pass.
-            hn::Store(zeroI, di, p.candidate);
-            hn::Store(zeroI, di, p.exitEnds);
             return !hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)));
         }
     }
