@@ -62,24 +62,86 @@ HWY_INLINE VF AbovePlane(VF z0, VF sx, VF sy, const LaneRays<VF>& r, VF ou, VF o
     return hn::Sub(hn::Add(r.oz, hn::Mul(t, r.dz)), plane);
 }
 
-// Per lane: true where the segment [ta, tb] of the ray certainly misses S in cell (fci, fcj)
-// (its index as floats), whose corner z00 is heights[offset] in the padded heights (rows of
-// `stride`): every one of firstHitOnPlane's four heights above the planes is > 0. Elsewhere
-// (NaN included) firstHitInCell decides.
+// firstHitOnPlane's line a + b·t in double for the lanes, with a and b as the scalar code forms
+// them: −a/b rounded to float, and −1 where b < 0 (else +1).
+template <class D, class VF>
+HWY_INLINE void PlaneRootsIn(D dd, VF ox, VF oy, VF oz, VF dx, VF dy, VF dz, VF cellX, VF cellY,
+                             VF z0, VF sx, VF sy, hn::Vec<D>& root, hn::Vec<D>& sign) {
+    const auto du = hn::Sub(ox, cellX), dv = hn::Sub(oy, cellY);
+    const auto a = hn::Sub(oz, hn::Add(hn::Add(z0, hn::Mul(sx, du)), hn::Mul(sy, dv)));
+    const auto b = hn::Sub(hn::Sub(dz, hn::Mul(sx, dx)), hn::Mul(sy, dy));
+    root = hn::Div(hn::Neg(a), b);
+    sign = hn::IfThenElse(hn::Lt(b, hn::Zero(dd)), hn::Set(dd, -1.0), hn::Set(dd, 1.0));
+}
+
+// Promotes the lanes to double (two vectors of doubles per vector of floats; one for the
+// single-lane target), solves each plane's line there and demotes −a/b and the sign of b back.
+template <class DF, class VF>
+HWY_INLINE void PlaneRoots(DF df, const LaneRays<VF>& r, VF cellX, VF cellY, VF z0, VF sx, VF sy,
+                           VF& root, VF& sign) {
+#if HWY_TARGET == HWY_SCALAR
+    const hn::Rebind<double, DF> dd;
+    const auto up = [&](VF v) { return hn::PromoteTo(dd, v); };
+    hn::Vec<decltype(dd)> rootD, signD;
+    PlaneRootsIn(dd, up(r.ox), up(r.oy), up(r.oz), up(r.dx), up(r.dy), up(r.dz), up(cellX),
+                 up(cellY), up(z0), up(sx), up(sy), rootD, signD);
+    root = hn::DemoteTo(df, rootD);
+    sign = hn::DemoteTo(df, signD);
+#else
+    const hn::Half<DF> dh;
+    const hn::Rebind<double, decltype(dh)> dd;
+    hn::Vec<decltype(dd)> rootLo, signLo, rootHi, signHi;
+    const auto lo = [&](VF v) { return hn::PromoteTo(dd, hn::LowerHalf(dh, v)); };
+    const auto hi = [&](VF v) { return hn::PromoteTo(dd, hn::UpperHalf(dh, v)); };
+    PlaneRootsIn(dd, lo(r.ox), lo(r.oy), lo(r.oz), lo(r.dx), lo(r.dy), lo(r.dz), lo(cellX),
+                 lo(cellY), lo(z0), lo(sx), lo(sy), rootLo, signLo);
+    PlaneRootsIn(dd, hi(r.ox), hi(r.oy), hi(r.oz), hi(r.dx), hi(r.dy), hi(r.dz), hi(cellX),
+                 hi(cellY), hi(z0), hi(sx), hi(sy), rootHi, signHi);
+    root = hn::Combine(df, hn::DemoteTo(dh, rootHi), hn::DemoteTo(dh, rootLo));
+    sign = hn::Combine(df, hn::DemoteTo(dh, signHi), hn::DemoteTo(dh, signLo));
+#endif
+}
+
+// A segment [ta, tb] of the lanes' rays over a cell: the cell's planes and firstHitOnPlane's
+// four heights of the ray above them at the segment's ends (float sign tests decide "certainly
+// misses"; the roots only where a lane may meet S).
+template <class VF>
+struct CellSegment {
+    LanePlanes<VF> planes;
+    VF cellX, cellY;                      // the cell's centre
+    VF firstA, firstB, secondA, secondB;  // above the first / second plane at ta / tb
+};
+
+template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
+HWY_INLINE CellSegment<VF> MeasureSegment(DF df, const float* heights, VI offset, VI stride,
+                                          VF fci, VF fcj, const LaneRays<VF>& r, VF ta, VF tb) {
+    const LanePlanes<VF> p = CellPlanesAt(df, heights, offset, stride);
+    const VF half = hn::Set(df, 0.5f);
+    const VF cellX = hn::Add(fci, half), cellY = hn::Add(fcj, half);
+    const VF ou = hn::Sub(r.ox, cellX), ov = hn::Sub(r.oy, cellY);
+    return {p,
+            cellX,
+            cellY,
+            AbovePlane(p.firstZ0, p.firstSx, p.firstSy, r, ou, ov, ta),
+            AbovePlane(p.firstZ0, p.firstSx, p.firstSy, r, ou, ov, tb),
+            AbovePlane(p.secondZ0, p.secondSx, p.secondSy, r, ou, ov, ta),
+            AbovePlane(p.secondZ0, p.secondSx, p.secondSy, r, ou, ov, tb)};
+}
+
+// Per lane: true where the segment certainly misses S in the cell (every height above the
+// planes > 0); elsewhere (NaN included) firstHitInCell decides, and there it returns a t in
+// [ta, tb] unless NaN: a lane not flagged here hits, or has NaN in its segment.
+template <class DF, class VF = hn::Vec<DF>>
+HWY_INLINE hn::Mask<DF> SegmentMisses(DF df, const CellSegment<VF>& s) {
+    const VF zero = hn::Zero(df);
+    return hn::And(hn::And(hn::Gt(s.firstA, zero), hn::Gt(s.firstB, zero)),
+                   hn::And(hn::Gt(s.secondA, zero), hn::Gt(s.secondB, zero)));
+}
+
 template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
 HWY_INLINE hn::Mask<DF> SegmentMissesCell(DF df, const float* heights, VI offset, VI stride,
                                          VF fci, VF fcj, const LaneRays<VF>& r, VF ta, VF tb) {
-    const LanePlanes<VF> p = CellPlanesAt(df, heights, offset, stride);
-    const VF half = hn::Set(df, 0.5f);
-    const VF ou = hn::Sub(r.ox, hn::Add(fci, half)), ov = hn::Sub(r.oy, hn::Add(fcj, half));
-    const VF zero = hn::Zero(df);
-    const auto above = [&](VF z0, VF sx, VF sy, VF t) {
-        return hn::Gt(AbovePlane(z0, sx, sy, r, ou, ov, t), zero);
-    };
-    return hn::And(hn::And(above(p.firstZ0, p.firstSx, p.firstSy, ta),
-                           above(p.firstZ0, p.firstSx, p.firstSy, tb)),
-                   hn::And(above(p.secondZ0, p.secondSx, p.secondSy, ta),
-                           above(p.secondZ0, p.secondSx, p.secondSy, tb)));
+    return SegmentMisses(df, MeasureSegment(df, heights, offset, stride, fci, fcj, r, ta, tb));
 }
 
 // One cell of cellsHit (cell_walk.h) in the lanes `act`: the cell's exits from its index (tx,
@@ -122,70 +184,26 @@ HWY_INLINE CellStep<VF, VI, MI> StepCell(DF df, MI act, const float* heights, VI
             hn::Add(cj, hn::IfThenElseZero(hn::Not(alongX), stepY))};
 }
 
-// firstHitOnPlane's line a + b·t in double for the lanes, with a and b as the scalar code forms
-// them: −a/b rounded to float, and −1 where b < 0 (else +1).
-template <class D, class VF>
-HWY_INLINE void PlaneRootsIn(D dd, VF ox, VF oy, VF oz, VF dx, VF dy, VF dz, VF cellX, VF cellY,
-                             VF z0, VF sx, VF sy, hn::Vec<D>& root, hn::Vec<D>& sign) {
-    const auto du = hn::Sub(ox, cellX), dv = hn::Sub(oy, cellY);
-    const auto a = hn::Sub(oz, hn::Add(hn::Add(z0, hn::Mul(sx, du)), hn::Mul(sy, dv)));
-    const auto b = hn::Sub(hn::Sub(dz, hn::Mul(sx, dx)), hn::Mul(sy, dy));
-    root = hn::Div(hn::Neg(a), b);
-    sign = hn::IfThenElse(hn::Lt(b, hn::Zero(dd)), hn::Set(dd, -1.0), hn::Set(dd, 1.0));
-}
-
-// Promotes the lanes to double (two vectors of doubles per vector of floats; one for the
-// single-lane target), solves each plane's line there and demotes −a/b and the sign of b back.
-template <class DF, class VF>
-HWY_INLINE void PlaneRoots(DF df, const LaneRays<VF>& r, VF cellX, VF cellY, VF z0, VF sx, VF sy,
-                           VF& root, VF& sign) {
-#if HWY_TARGET == HWY_SCALAR
-    const hn::Rebind<double, DF> dd;
-    const auto up = [&](VF v) { return hn::PromoteTo(dd, v); };
-    hn::Vec<decltype(dd)> rootD, signD;
-    PlaneRootsIn(dd, up(r.ox), up(r.oy), up(r.oz), up(r.dx), up(r.dy), up(r.dz), up(cellX),
-                 up(cellY), up(z0), up(sx), up(sy), rootD, signD);
-    root = hn::DemoteTo(df, rootD);
-    sign = hn::DemoteTo(df, signD);
-#else
-    const hn::Half<DF> dh;
-    const hn::Rebind<double, decltype(dh)> dd;
-    hn::Vec<decltype(dd)> rootLo, signLo, rootHi, signHi;
-    const auto lo = [&](VF v) { return hn::PromoteTo(dd, hn::LowerHalf(dh, v)); };
-    const auto hi = [&](VF v) { return hn::PromoteTo(dd, hn::UpperHalf(dh, v)); };
-    PlaneRootsIn(dd, lo(r.ox), lo(r.oy), lo(r.oz), lo(r.dx), lo(r.dy), lo(r.dz), lo(cellX),
-                 lo(cellY), lo(z0), lo(sx), lo(sy), rootLo, signLo);
-    PlaneRootsIn(dd, hi(r.ox), hi(r.oy), hi(r.oz), hi(r.dx), hi(r.dy), hi(r.dz), hi(cellX),
-                 hi(cellY), hi(z0), hi(sx), hi(sy), rootHi, signHi);
-    root = hn::Combine(df, hn::DemoteTo(dh, rootHi), hn::DemoteTo(dh, rootLo));
-    sign = hn::Combine(df, hn::DemoteTo(dh, signHi), hn::DemoteTo(dh, signLo));
-#endif
-}
-
-// firstHitInCell across lanes, bit for bit: the smallest t in [ta, tb] where the ray is on or
-// below S in cell (fci, fcj), or kInfinity; the float sign tests as above, the root in double as
-// the scalar code solves it.
-template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
-HWY_INLINE VF FirstHitInCell(DF df, const float* heights, VI offset, VI stride, VF fci, VF fcj,
-                             const LaneRays<VF>& r, VF ta, VF tb) {
-    const LanePlanes<VF> p = CellPlanesAt(df, heights, offset, stride);
-    const VF half = hn::Set(df, 0.5f), zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
-    const VF cellX = hn::Add(fci, half), cellY = hn::Add(fcj, half);
-    const VF ou = hn::Sub(r.ox, cellX), ov = hn::Sub(r.oy, cellY);
-    const auto onPlane = [&](VF z0, VF sx, VF sy) {  // firstHitOnPlane
+// firstHitInCell across lanes, bit for bit, on a measured segment: the smallest t in [ta, tb]
+// where the ray is on or below S in the cell, or kInfinity; the float sign tests as above, the
+// root in double as the scalar code solves it.
+template <class DF, class VF = hn::Vec<DF>>
+HWY_INLINE VF FirstHitOnSegment(DF df, const CellSegment<VF>& s, const LaneRays<VF>& r, VF ta,
+                                VF tb) {
+    const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
+    const auto onPlane = [&](VF z0, VF sx, VF sy, VF above0, VF above1) {  // firstHitOnPlane
         VF root, sign;
-        PlaneRoots(df, r, cellX, cellY, z0, sx, sy, root, sign);
+        PlaneRoots(df, r, s.cellX, s.cellY, z0, sx, sy, root, sign);
         // std::clamp(float(-a / b), ta, tb) where b < 0, else tb
         const VF clamped = hn::IfThenElse(hn::Lt(root, ta), ta,
                                           hn::IfThenElse(hn::Lt(tb, root), tb, root));
         const VF solved = hn::IfThenElse(hn::Lt(sign, zero), clamped, tb);
-        const VF above1 = AbovePlane(z0, sx, sy, r, ou, ov, tb);
         const VF beyond = hn::IfThenElse(hn::Gt(above1, zero), inf, solved);
-        const VF above0 = AbovePlane(z0, sx, sy, r, ou, ov, ta);
         return hn::IfThenElse(hn::Le(above0, zero), ta, beyond);
     };
-    const VF t0 = onPlane(p.firstZ0, p.firstSx, p.firstSy);
-    const VF t1 = onPlane(p.secondZ0, p.secondSx, p.secondSy);
+    const LanePlanes<VF>& p = s.planes;
+    const VF t0 = onPlane(p.firstZ0, p.firstSx, p.firstSy, s.firstA, s.firstB);
+    const VF t1 = onPlane(p.secondZ0, p.secondSx, p.secondSy, s.secondA, s.secondB);
     return hn::IfThenElse(hn::Eq(t0, ta), t0, hn::IfThenElse(hn::Lt(t1, t0), t1, t0));
 }
 

@@ -17,6 +17,7 @@
 #include <relief/techniques/common/pyramid_walk.h>
 #include <relief/techniques/common/pyramid_walk_packet.h>
 
+#include <algorithm>
 #include <cstdint>
 
 HWY_BEFORE_NAMESPACE();
@@ -52,6 +53,9 @@ struct Walk {
     std::span<const Ray> rays;
     std::span<Hit> hits;
     ray_feed::RayFeed feed{s, rays, hits};            // the rays, clipped a chunk at a time
+    // How many lanes wait for a cell test together (see run): 3 of 8 lanes, the best of 1–4 on
+    // AVX2 (docs/benchmarks-packets.md, 2026-12-07); the same share of other widths.
+    const size_t leafBatch = std::max<size_t>(1, hn::Lanes(DF()) * 3 / 8);
     const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
     // The feed's current chunk's starts (makeWalkRay and startCursor per ray), made a chunk at a
@@ -260,9 +264,6 @@ struct Walk {
         reload();
         if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
         for (;;) {
-        steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
-        fetches = hn::Add(fetches, hn::IfThenElseZero(act, oneI));
-
         // nodeBox
         const VI nx = (px >> level), ny = (py >> level);
         const VI loX = (nx << level), loY = (ny << level);
@@ -287,11 +288,23 @@ struct Walk {
         const MI below = hn::And(act, hn::RebindMask(di, hn::Le(tIn, et)));
         const MI atLeaf = hn::Eq(level, zeroI);
         const MI descends = hn::AndNot(atLeaf, below);
-        const MI leaf = hn::And(below, atLeaf);
+        // Lanes at level 0 whose cell may hold the hit wait until leafBatch of them (or every
+        // active lane) do, and take the cell test together: the test (four gathers, two roots in
+        // double) costs a whole vector's work however few lanes need it. A waiting lane's state
+        // stays as it is, so it repeats this step exactly; its steps are counted once.
+        const MI atLeafBelow = hn::And(below, atLeaf);
+        const size_t waiting = hn::CountTrue(di, atLeafBelow);
+        const bool testCells = waiting >= leafBatch || waiting == hn::CountTrue(di, act);
+        const MI none = hn::AndNot(act, act);
+        const MI leaf = testCells ? atLeafBelow : none;
+        const MI frozen = testCells ? none : atLeafBelow;
+        const MI counted = hn::AndNot(frozen, act);
+        steps = hn::Add(steps, hn::IfThenElseZero(counted, oneI));
+        fetches = hn::Add(fetches, hn::IfThenElseZero(counted, oneI));
 
         // Level 0: the reference's cell test (leafHit) across lanes, over the ray's whole span in
         // the cell (its ends as the reference computes them).
-        MI leafHits = hn::RebindMask(di, hn::Lt(hn::Zero(df), hn::Zero(df)));  // none
+        MI leafHits = none;
         if (!hn::AllFalse(di, leaf)) {
             fetches = hn::Add(fetches, hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches)));
             const VI ci = hn::Add(baseX, px), cj = hn::Add(baseY, py);
@@ -314,13 +327,21 @@ struct Walk {
             const VI column = hn::Add(layout.repeat ? px : ci, oneI);
             const VI row = hn::Add(layout.repeat ? py : cj, oneI);
             const VI heightStride = hn::Set(di, s.width() + 2);
-            const VF th = cell_test::FirstHitInCell(
+            const cell_test::LaneRays<VF> r{ox, oy, oz, hn::Load(df, p.dx),
+                                            hn::Load(df, p.dy), dz};
+            const auto segment = cell_test::MeasureSegment(
                 df, heights, hn::Add(hn::Mul(row, heightStride), column), heightStride,
-                hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
-                {ox, oy, oz, hn::Load(df, p.dx), hn::Load(df, p.dy), dz}, ta, tb);
-            leafHits =
-                hn::And(leaf, hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
-            hn::Store(th, df, p.leafT);
+                hn::ConvertTo(df, ci), hn::ConvertTo(df, cj), r, ta, tb);
+            // The roots (in double: four divisions) only where a lane may meet S; a lane that
+            // certainly misses would get t = ∞ from them.
+            const MI mayMeet =
+                hn::AndNot(hn::RebindMask(di, cell_test::SegmentMisses(df, segment)), leaf);
+            if (!hn::AllFalse(di, mayMeet)) {
+                const VF th = cell_test::FirstHitOnSegment(df, segment, r, ta, tb);
+                leafHits = hn::And(mayMeet,
+                                   hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
+                hn::Store(th, df, p.leafT);
+            }
         }
 
         // descend (settleHalf per axis; no texel ties: the pyramid is over cells)
@@ -332,7 +353,7 @@ struct Walk {
         settleHalf(tIn, edge, oy, invY, stepY, baseY, loY, half, cellsY, exitY, pyD, exitYD);
 
         // advance<kAscent>, in the lanes that neither descend nor hit
-        const MI advances = hn::AndNot(hn::Or(descends, leafHits), act);
+        const MI advances = hn::AndNot(hn::Or(hn::Or(descends, leafHits), frozen), act);
         const MI pastEnd = hn::RebindMask(di, hn::Ge(et, tExit));
         const MI alongX = hn::RebindMask(di, hn::Le(exitX, exitY));
         const VI size = (oneI << level);
