@@ -400,7 +400,8 @@ TEST(BenchCommand, RejectsBadOptions) {
 
 // --preset cpu-peers (issue 21): every CPU row and both Embree peers time the view's shadow rays
 // too (the peers by occlusion queries, which find exact's shadows), safety-cc is skipped on a map
-// above 1024², and the page judges each target from the rows. Timings on: the page is speeds.
+// above 1024², each row's ratios to the peers are paired timings (and the page shows those), and
+// the page judges each target from the rows. Timings on: the page is speeds.
 TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
     const fs::path out = fs::temp_directory_path() / ("relief_bench_cpu_peers_" + std::to_string(::getpid()));
     const std::string command = std::string(RELIEF_CLI_PATH) +
@@ -409,9 +410,23 @@ TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
                                 out.string() + " > " + out.string() + ".log 2>&1";
     ASSERT_EQ(WEXITSTATUS(std::system(command.c_str())), 0) << readText(out.string() + ".log");
     std::map<std::string, std::set<std::string>> rowsByMap;
+    std::vector<std::string> pairedCells;  // exact's ratios on the 32² map, as the page prints them
     for (const auto& r : resultRows(out)) {
         const std::string technique = r.at("technique");
         rowsByMap[r.at("map")].insert(technique);
+        if (r.at("contract") != "peer") {
+            ASSERT_TRUE(r.contains("paired_ratios")) << technique;
+            const auto& paired = r.at("paired_ratios");
+            EXPECT_EQ(paired.size(), 4u) << technique;
+            for (const char* query : {"rtcIntersect1", "rtcIntersect16", "rtcOccluded1", "rtcOccluded16"}) {
+                ASSERT_TRUE(paired.contains(query)) << technique << " " << query;
+                EXPECT_GT(paired.at(query).get<double>(), 0.0) << technique << " " << query;
+                if (technique == "exact" && r.at("map") == "fbm:32x32:1")
+                    pairedCells.push_back(fmt::format("{:.2f}×", paired.at(query).get<double>()));
+            }
+        } else {
+            EXPECT_FALSE(r.contains("paired_ratios")) << technique;
+        }
         ASSERT_TRUE(r.contains("shadow_mrays_per_s")) << technique;
         EXPECT_GT(r.at("shadow_mrays_per_s").get<double>(), 0.0) << technique;
         if (r.at("contract") == "exact") EXPECT_EQ(r.at("shadow_wrong_rate").get<double>(), 0.0);
@@ -421,6 +436,12 @@ TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
     EXPECT_EQ(rowsByMap["fbm:1032x1024:1"], (std::set<std::string>{"embree-1", "embree-16", "exact"}));
     const std::string page = readText(out / "report.md");
     ASSERT_NE(page.find("## CPU peers: targets"), std::string::npos);
+    // The every-view table's exact line on the 32² map carries the paired ratios.
+    ASSERT_EQ(pairedCells.size(), 4u);
+    const size_t line = page.find("| fbm:32x32:1 | 40.2° | exact |");
+    ASSERT_NE(line, std::string::npos);
+    const std::string exactLine = page.substr(line, page.find('\n', line) - line);
+    for (const std::string& cell : pairedCells) EXPECT_NE(exactLine.find("| " + cell + " |"), std::string::npos) << exactLine;
     EXPECT_NE(page.find(fmt::format("ISA: {}", relief::tracerIsa())), std::string::npos);
     int judged = 0, notRun = 0;
     std::istringstream lines(page);

@@ -37,6 +37,11 @@ bool isPeer(std::string_view name) {
     return false;
 }
 
+std::string embreeQuery(PeerKind kind, bool shadow) {
+    RELIEF_CHECK(kind == PeerKind::Embree1 || kind == PeerKind::Embree16);
+    return std::string(shadow ? "rtcOccluded" : "rtcIntersect") + (kind == PeerKind::Embree16 ? "16" : "1");
+}
+
 struct EmbreePeer::Scene {
     std::unique_ptr<EmbreeScene> scene;
 };

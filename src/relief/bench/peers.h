@@ -31,6 +31,9 @@ std::string userGeometryLabel(std::string_view row, PeerKind kind);
 // The peer the summary compares rows of `backend` with, or null.
 const PeerInfo* summaryPeerOf(std::string_view backend);
 bool isPeer(std::string_view name);
+// The Embree call an Embree peer (Embree1, Embree16) times: rtcIntersect1/16 on primary rays,
+// rtcOccluded1/16 on shadow rays.
+std::string embreeQuery(PeerKind kind, bool shadow);
 
 // One timed run of a peer over the camera's primary rays (CPU) or frame (GL).
 struct PeerResult {

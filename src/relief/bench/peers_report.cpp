@@ -17,8 +17,7 @@ constexpr const char* kEmbree1 = "embree-1";
 constexpr const char* kEmbree16 = "embree-16";
 
 std::string peerQuery(const std::string& peer, bool shadow) {
-    const bool packets = peer == kEmbree16;
-    return fmt::format("rtc{}{}", shadow ? "Occluded" : "Intersect", packets ? "16" : "1");
+    return embreeQuery(peer == kEmbree16 ? PeerKind::Embree16 : PeerKind::Embree1, shadow);
 }
 
 std::string ratioCell(double r) { return r > 0 ? fmt::format("{:.2f}×", r) : "-"; }
@@ -43,8 +42,14 @@ class PeerIndex {
             if (r.backend == "cpu" && isPeer(r.technique))
                 m_peers[{r.technique, View{r.map, r.elevation}}] = &r;
     }
-    // Row speed over the peer's on the same view, primary or shadow; 0 when either is missing.
+    // Row speed over the peer's on the same view, primary or shadow: the paired ratio where the
+    // run measured one (BenchConfig::pairedPeers), else the quotient of their best speeds; 0 when
+    // either is missing.
     double ratio(const BenchRow& r, const std::string& peer, bool shadow) const {
+        if (!isPeer(r.technique)) {
+            const auto paired = r.pairedRatios.find(peerQuery(peer, shadow));
+            if (paired != r.pairedRatios.end() && paired->second > 0) return paired->second;
+        }
         const auto it = m_peers.find({peer, View{r.map, r.elevation}});
         if (it == m_peers.end() || speed(*it->second, shadow) <= 0 || speed(r, shadow) <= 0)
             return 0;
@@ -68,7 +73,9 @@ ReportTable viewsTable(const std::vector<const BenchRow*>& rows, const PeerIndex
         "Mrays/s of each row and peer on the view's primary rays and on its shadow rays (for the "
         "reference's lit-facing primary hits, in 4×4 pixel tiles: segments from the light that "
         "end 0.5 texels before their points, a first-hit search for the rows, an occlusion query "
-        "for Embree), and the ratios to Embree on the same rays in this run. wrong %: pixels with "
+        "for Embree), and the ratios to Embree on the same rays in this run (with paired timing: "
+        "the median over the repeats of the row and the peer timed back to back; Mrays/s are the "
+        "best repeats, so a ratio need not equal the quotient of the Mrays/s). wrong %: pixels with "
         "another hit/miss or |Δt| > 0.5 than the reference; shadow wrong %: pixels whose shadow "
         "differs from the reference's."};
     t.header = {"map",

@@ -93,6 +93,8 @@ BenchConfig cpuPeers() {
     c.elevations = {15.3f, 40.2f, 65.1f};
     c.shadowElevation = 30.0f;
     c.shadowTiming = true;
+    c.pairedPeers = true;
+    c.repeats = 5;  // pairs per row and view: their median is the ratio
     c.rowMaxSamples = {{"safety-cc", k1024}, {"qdm", k1024}};
     // The shadow targets are "the same ratios against rtcOccluded16", exact's included.
     for (bool shadow : {false, true}) {

@@ -65,6 +65,11 @@ struct BenchConfig {
     // (the shadow rays of every row), the Embree peers answering occlusion queries on the same
     // segments (rtcOccluded1, rtcOccluded16 on 4×4 tiles of pixels).
     bool shadowTiming = false;
+    // Each CPU row's timed repeats each followed by one run of each Embree peer on the same rays
+    // (primary, and shadow with shadowTiming): the ratios to the peers are the medians of these
+    // pairs (BenchRow::pairedRatios), so that a row and its peer share the machine's load of the
+    // moment. The rows' and peers' Mrays/s stay their best repeats.
+    bool pairedPeers = false;
     // Rows skipped on maps of more samples than given (row label, samples): bakes too slow there.
     std::vector<std::pair<std::string, int64_t>> rowMaxSamples;
     std::vector<PeerTarget> targets;  // non-empty: the report's cpu-peers tables (bench/peers_report.h)

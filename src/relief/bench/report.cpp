@@ -584,6 +584,7 @@ nlohmann::json rowJson(const BenchRow& r, bool timings) {
         j["build_seconds"] = r.buildSeconds;
         j["build_cpu_seconds"] = r.buildCpuSeconds;
         if (r.shadowMraysPerSecond > 0) j["shadow_mrays_per_s"] = r.shadowMraysPerSecond;
+        if (!r.pairedRatios.empty()) j["paired_ratios"] = r.pairedRatios;
     }
     if (r.curves) {
         const curves::StepCounts& c = r.curves->counts;

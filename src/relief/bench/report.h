@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +42,10 @@ struct BenchRow {
     std::string images;  // file prefix relative to the output folder, empty if none
     std::optional<CurvesFigures> curves;
     std::vector<std::pair<std::string, double>> mapSummary;  // the row's TechniqueInfo::mapSummary of its maps
+    // BenchConfig::pairedPeers: the row's speed over each Embree peer's on the same rays, keyed by
+    // the peer's call (embreeQuery): the median over the repeats of the row and the peer timed
+    // back to back. Empty when not paired.
+    std::map<std::string, double> pairedRatios;
 };
 
 // Geometric mean of positive ratios; 0 when there are none.

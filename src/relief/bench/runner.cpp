@@ -285,6 +285,7 @@ private:
             orFail(techniqueInput(referenceTechnique(), surface, {}))));
         std::unique_ptr<EmbreePeer> embree;
         if (m_config.embree && surface->edge() == EdgeMode::Clamp) embree = orFail(EmbreePeer::create(*surface));
+        m_embree = embree.get();
         for (float elevation : m_config.elevations) {
             OrbitView view{elevation, m_config.azimuth, m_config.distance, 45.0f};
             const Camera camera(view, *surface, m_config.size.x, m_config.size.y);
@@ -397,7 +398,7 @@ private:
         r.buildSeconds += createSeconds;
         // Timed as Embree's packets are (EmbreePeer::run): on rays made beforehand, in its order.
         std::vector<Hit> packed(m_packetRays.size());
-        const double seconds = bestOf(m_config.repeats, [&] { traceAll(*tracer, m_packetRays, packed); });
+        const double seconds = timeRow([&] { traceAll(*tracer, m_packetRays, packed); }, false, camera, r);
         Image<Hit> hits(camera.width(), camera.height());
         for (size_t k = 0; k < packed.size(); ++k) hits.pixels[m_packetOrder[k]] = packed[k];
         r.stats = compareHits(hits, reference);
@@ -407,7 +408,7 @@ private:
         if (m_config.shadowElevation > 0.0f && m_config.shadowTiming) {
             std::vector<Hit> shadowHits(m_lightRays.rays.size());
             const double shadowSeconds =
-                bestOf(m_config.repeats, [&] { traceAll(*tracer, m_lightRays.rays, shadowHits); });
+                timeRow([&] { traceAll(*tracer, m_lightRays.rays, shadowHits); }, true, camera, r);
             r.shadowMraysPerSecond = double(shadowHits.size()) / shadowSeconds / 1e6;
             r.shadowWrongRate = shadowWrongRate(litFromHits(m_lightRays, shadowHits), hits.pixels.size());
         } else if (m_config.shadowElevation > 0.0f) {
@@ -425,6 +426,31 @@ private:
         m_rows.push_back(std::move(r));
         if (m_config.userGeometry && surface->edge() == EdgeMode::Clamp)
             runUserGeometry(row, map, elevation, cap, surface, camera, reference, input);
+    }
+
+    // A CPU row's best time over the repeats on the view's primary or shadow rays. With
+    // BenchConfig::pairedPeers each repeat is followed by one run of each Embree peer on the same
+    // rays, and r.pairedRatios gets the median of the per-repeat ratios.
+    template <class Trace>
+    double timeRow(Trace&& trace, bool shadow, const Camera& camera, BenchRow& r) const {
+        if (!m_config.pairedPeers || !m_embree) return bestOf(m_config.repeats, trace);
+        constexpr PeerKind kKinds[] = {PeerKind::Embree1, PeerKind::Embree16};
+        std::vector<double> ratios[std::size(kKinds)];
+        double best = 1e300;
+        for (int k = 0; k < std::max(1, m_config.repeats); ++k) {
+            const auto start = std::chrono::steady_clock::now();
+            trace();
+            const double seconds = secondsSince(start);
+            best = std::min(best, seconds);
+            for (size_t p = 0; p < std::size(kKinds); ++p) {
+                const double peerSeconds = shadow ? m_embree->occluded(kKinds[p], m_lightRays.rays, 1).seconds
+                                                  : m_embree->run(kKinds[p], camera, 1).seconds;
+                ratios[p].push_back(peerSeconds / seconds);  // row speed ÷ peer speed
+            }
+        }
+        for (size_t p = 0; p < std::size(kKinds); ++p)
+            r.pairedRatios[embreeQuery(kKinds[p], shadow)] = median(ratios[p]);
+        return best;
     }
 
     // The row's tracer behind an Embree user geometry: the triangle peers' Embree calls on the same
@@ -597,6 +623,7 @@ private:
     std::vector<uint8_t> m_referenceLit;  // the reference's verdict on each
     RaysFromTheLight m_lightRays;          // shadowTiming: the rows' shadow rays
     int64_t m_mapSamples = 0;
+    const EmbreePeer* m_embree = nullptr;  // the current heightfield's triangles, if any
 };
 
 // A paper's page (StudyKind::Paper): each part run as its own preset into <out-dir>/<part>/,

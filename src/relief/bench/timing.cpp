@@ -1,6 +1,7 @@
 #include <relief/bench/timing.h>
 #include <relief/techniques/technique.h>
 
+#include <algorithm>
 #include <ctime>
 #include <fstream>
 
@@ -14,6 +15,15 @@ double processCpuSeconds() {
     timespec t{};
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    const size_t middle = values.size() / 2;
+    std::nth_element(values.begin(), values.begin() + middle, values.end());
+    const double upper = values[middle];
+    if (values.size() % 2) return upper;
+    return 0.5 * (upper + *std::max_element(values.begin(), values.begin() + middle));
 }
 
 std::string cpuModelName() {

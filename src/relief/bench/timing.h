@@ -30,6 +30,9 @@ double bestOf(int repeats, Fn&& fn) {
     return best;
 }
 
+// The middle value (the mean of the two middle ones for an even count); 0 for none.
+double median(std::vector<double> values);
+
 // Wall and process CPU seconds of one run of fn.
 struct Elapsed {
     double wall = 0, cpu = 0;
