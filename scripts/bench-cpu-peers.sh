@@ -19,6 +19,10 @@ section=$(
     echo
     echo "\`relief bench --preset cpu-peers\` (the whole report, every view, means and bakes: [benchmarks-cpu-peers.md](benchmarks-cpu-peers.md)):"
     sed -n 3p docs/benchmarks-cpu-peers.md
+    if [[ -f docs/benchmarks-cpu-peers-avx512.md ]]; then
+        echo
+        echo "The last run on a machine with AVX-512 (packet target AVX3, 16 lanes), kept beside it: [benchmarks-cpu-peers-avx512.md](benchmarks-cpu-peers-avx512.md)."
+    fi
     sed -n '/^## CPU peers: targets/,/^## /{/^## /d;p}' docs/benchmarks-cpu-peers.md
 )
 tmp=$(mktemp)
