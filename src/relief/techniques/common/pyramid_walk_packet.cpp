@@ -465,6 +465,13 @@ struct Walk {
     VI lookupLevel(const int32_t* table, VI level) const {
         const DI di;
         const int n = int(hn::Lanes(di));
+        if (layout.levels <= 2 * n) {  // one or two vectors (AVX2 up to 16 levels, AVX-512 32)
+            const auto indices = hn::IndicesFromVec(di, hn::And(level, hn::Set(di, n - 1)));
+            const VI first = hn::TableLookupLanes(hn::Load(di, table), indices);
+            if (layout.levels <= n) return first;
+            const VI second = hn::TableLookupLanes(hn::Load(di, table + n), indices);
+            return hn::IfThenElse(hn::Lt(level, hn::Set(di, n)), first, second);
+        }
         VI result = hn::Zero(di);
         for (int first = 0; first < layout.levels; first += n) {
             const VI k = hn::Sub(level, hn::Set(di, first));
