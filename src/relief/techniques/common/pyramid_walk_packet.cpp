@@ -208,7 +208,9 @@ struct Walk {
 
     // walkPyramid's loop in every active lane until the batch is done; finished lanes take new
     // rays. The lanes' state stays in registers, through memory only for the scalar parts.
-    template <Ascent kAscent>
+    // kRepeat: the layout's repeat mode, compiled in (clamp mode has no seams, and its bases stay
+    // the first cell: a step's seam arithmetic is work only repeat needs).
+    template <Ascent kAscent, bool kRepeat>
     void run(Packet& p) {
         const DF df;
         const DI di;
@@ -256,8 +258,10 @@ struct Walk {
             hn::Store(level, di, p.level);
             hn::Store(px, di, p.px);
             hn::Store(py, di, p.py);
-            hn::Store(baseX, di, p.baseX);
-            hn::Store(baseY, di, p.baseY);
+            if constexpr (kRepeat) {
+                hn::Store(baseX, di, p.baseX);
+                hn::Store(baseY, di, p.baseY);
+            }
             hn::Store(steps, di, p.steps);
             hn::Store(fetches, di, p.fetches);
         };
@@ -324,8 +328,8 @@ struct Walk {
             tb = hn::IfThenElse(hn::Lt(ta, tb), tb, ta);
             // The cell's corners in the padded heights: clamp, cells -1..W-1 (column ci + 1);
             // repeat, pyramid index px is the wrapped cell (column px + 1).
-            const VI column = hn::Add(layout.repeat ? px : ci, oneI);
-            const VI row = hn::Add(layout.repeat ? py : cj, oneI);
+            const VI column = hn::Add(kRepeat ? px : ci, oneI);
+            const VI row = hn::Add(kRepeat ? py : cj, oneI);
             const VI heightStride = hn::Set(di, s.width() + 2);
             const cell_test::LaneRays<VF> r{ox, oy, oz, hn::Load(df, p.dx),
                                             hn::Load(df, p.dy), dz};
@@ -366,28 +370,34 @@ struct Walk {
         const VI cells = hn::IfThenElse(alongX, cellsX, cellsY);
         const VI step = hn::IfThenElse(alongX, stepX, stepY);
         const MI inside = hn::AndNot(hn::Lt(to, zeroI), hn::Lt(to, cells));
-        const MI seam = layout.repeat ? hn::Not(inside) : hn::AndNot(inside, inside);  // none
-        const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
-        const VI toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
-        const VI baseShift = hn::IfThenElseZero(seam, shift);
+        // Repeat: a step across the map's edge wraps to the other side and moves the base.
+        MI seam = none;
+        VI toWrapped = to, baseXA = baseX, baseYA = baseY;
+        if constexpr (kRepeat) {
+            seam = hn::Not(inside);
+            const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
+            toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
+            const VI baseShift = hn::IfThenElseZero(seam, shift);
+            baseXA = hn::Add(baseX, hn::IfThenElseZero(alongX, baseShift));
+            baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
+        }
         const VI topLevel = hn::Set(di, layout.topLevel());
         VI levelA;  // levelAfterStep
         if constexpr (kAscent == Ascent::Parent) {
             const VI levelUp = hn::Add(level, oneI);
-            const MI newParent = hn::Or(seam, hn::Ne((from >> levelUp), (to >> levelUp)));
+            MI newParent = hn::Ne((from >> levelUp), (to >> levelUp));
+            if constexpr (kRepeat) newParent = hn::Or(seam, newParent);
             levelA = hn::IfThenElse(newParent, hn::Min(levelUp, topLevel), level);
         } else {
             // bit_width(from ^ to) - 1: the exponent of the float (exact: indices < 2^23, and
             // from ^ to ≥ 1 in every lane that stays)
             const VI bits = hn::BitCast(di, hn::ConvertTo(df, hn::Xor(from, to)));
-            const VI highest = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
-            levelA = hn::IfThenElse(seam, topLevel, highest);
+            levelA = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
+            if constexpr (kRepeat) levelA = hn::IfThenElse(seam, topLevel, levelA);
         }
         const MI ascended = hn::Ne(levelA, level);
         const VI pxA = hn::IfThenElse(alongX, toWrapped, px);
         const VI pyA = hn::IfThenElse(alongX, py, toWrapped);
-        const VI baseXA = hn::Add(baseX, hn::IfThenElseZero(alongX, baseShift));
-        const VI baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
         const VF exitXA = hn::IfThenElse(
             hn::RebindMask(df, hn::Or(alongX, ascended)),
             sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
@@ -396,8 +406,7 @@ struct Walk {
             hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
             sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
             exitY);
-        const MI leaves =
-            hn::And(advances, layout.repeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
+        const MI leaves = hn::And(advances, kRepeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
 
         // The new state: descended, advanced, or (hit, left, parked) as it was.
         const MF descendsF = hn::RebindMask(df, descends), advancesF = hn::RebindMask(df, advances);
@@ -412,8 +421,10 @@ struct Walk {
         level = pick(di, descends, advances, levelDown, levelA, level);
         px = pick(di, descends, advances, pxD, pxA, px);
         py = pick(di, descends, advances, pyD, pyA, py);
-        baseX = hn::IfThenElse(advances, baseXA, baseX);
-        baseY = hn::IfThenElse(advances, baseYA, baseY);
+        if constexpr (kRepeat) {
+            baseX = hn::IfThenElse(advances, baseXA, baseX);
+            baseY = hn::IfThenElse(advances, baseYA, baseY);
+        }
 
         // Rays done: a cell hit, or leaving the box (the floor rule decides).
         const MI done = hn::Or(leafHits, leaves);
@@ -543,10 +554,11 @@ void WalkPackets(const Surface& surface, const MaxPyramid& pyramid, std::span<co
         p.active[k] = p.level[k] = p.px[k] = p.py[k] = 0;
         if (k < hn::Lanes(DF())) walk.fill(p, k);
     }
+    const bool repeat = pyramid.layout().repeat;
     if (ascent == Ascent::Ancestor)
-        walk.run<Ascent::Ancestor>(p);
+        repeat ? walk.run<Ascent::Ancestor, true>(p) : walk.run<Ascent::Ancestor, false>(p);
     else
-        walk.run<Ascent::Parent>(p);
+        repeat ? walk.run<Ascent::Parent, true>(p) : walk.run<Ascent::Parent, false>(p);
 }
 
 const char* TargetName() { return hwy::TargetName(HWY_TARGET); }
