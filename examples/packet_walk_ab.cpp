@@ -52,12 +52,6 @@ bool same(const Hit& a, const Hit& b, bool counts) {
            (!counts || (a.steps == b.steps && a.fetches == b.fetches));
 }
 
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -190,8 +184,8 @@ int main(int argc, char** argv) {
             const double n = double(rays.size()) * 1e-6;
             std::printf(
                 "| %s | %s | %.1f | %.2f | %.2f | %.2f (%.2f–%.2f) | %zu | %zu | %.1f | %.1f |\n",
-                row.c_str(), source.c_str(), elevation, n / median(ts), n / median(tp),
-                median(ratios), *std::min_element(ratios.begin(), ratios.end()),
+                row.c_str(), source.c_str(), elevation, n / bench::median(ts), n / bench::median(tp),
+                bench::median(ratios), *std::min_element(ratios.begin(), ratios.end()),
                 *std::max_element(ratios.begin(), ratios.end()), hits, differences,
                 steps / double(rays.size()), fetches / double(rays.size()));
             std::fflush(stdout);

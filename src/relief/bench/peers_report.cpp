@@ -46,10 +46,8 @@ class PeerIndex {
     // run measured one (BenchConfig::pairedPeers), else the quotient of their best speeds; 0 when
     // either is missing.
     double ratio(const BenchRow& r, const std::string& peer, bool shadow) const {
-        if (!isPeer(r.technique)) {
-            const auto paired = r.pairedRatios.find(peerQuery(peer, shadow));
-            if (paired != r.pairedRatios.end() && paired->second > 0) return paired->second;
-        }
+        const auto paired = r.pairedRatios.find(peerQuery(peer, shadow));  // none for a peer
+        if (paired != r.pairedRatios.end() && paired->second > 0) return paired->second;
         const auto it = m_peers.find({peer, View{r.map, r.elevation}});
         if (it == m_peers.end() || speed(*it->second, shadow) <= 0 || speed(r, shadow) <= 0)
             return 0;

@@ -313,6 +313,7 @@ private:
             if (wants("gl")) runMesh(label, elevation, *surface, camera);
             progress.advance();
         }
+        m_embree = nullptr;  // `embree` ends here
     }
 
     // StudySpec::shadowElevation: the reference's primary hits that face the light, in the 4×4
@@ -623,7 +624,7 @@ private:
     std::vector<uint8_t> m_referenceLit;  // the reference's verdict on each
     RaysFromTheLight m_lightRays;          // shadowTiming: the rows' shadow rays
     int64_t m_mapSamples = 0;
-    const EmbreePeer* m_embree = nullptr;  // the current heightfield's triangles, if any
+    const EmbreePeer* m_embree = nullptr;  // runViews: the current heightfield's triangles, if any
 };
 
 // A paper's page (StudyKind::Paper): each part run as its own preset into <out-dir>/<part>/,
