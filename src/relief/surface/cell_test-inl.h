@@ -16,6 +16,7 @@
 
 #include <hwy/highway.h>
 #include <relief/core/math.h>
+#include <relief/surface/lane_gather-inl.h>
 
 HWY_BEFORE_NAMESPACE();
 namespace relief {
@@ -38,12 +39,9 @@ struct LanePlanes {
 
 template <class DF, class VF = hn::Vec<DF>, class VI = hn::Vec<hn::RebindToSigned<DF>>>
 HWY_INLINE LanePlanes<VF> CellPlanesAt(DF df, const float* heights, VI offset, VI stride) {
-    const hn::RebindToSigned<DF> di;
-    const VI one = hn::Set(di, 1);
-    const VF z00 = hn::GatherIndex(df, heights, offset);
-    const VF z10 = hn::GatherIndex(df, heights, hn::Add(offset, one));
-    const VF z01 = hn::GatherIndex(df, heights, hn::Add(offset, stride));
-    const VF z11 = hn::GatherIndex(df, heights, hn::Add(hn::Add(offset, stride), one));
+    VF z00, z10, z01, z11;
+    lane_gather::GatherPairs(df, heights, offset, z00, z10);
+    lane_gather::GatherPairs(df, heights, hn::Add(offset, stride), z01, z11);
     const auto lowDiagonal = hn::Le(hn::Add(z00, z11), hn::Add(z10, z01));
     return {z00,
             hn::Sub(z10, z00),

@@ -15,6 +15,7 @@
 
 #include <hwy/cache_control.h>
 #include <hwy/highway.h>
+#include <relief/surface/lane_gather-inl.h>
 #include <relief/surface/surface.h>
 
 #include <algorithm>
@@ -37,7 +38,7 @@ template <class DF>
 HWY_INLINE hn::Vec<DF> GatherRayField(DF df, const Ray* rays, size_t first, int32_t c) {
     const hn::RebindToSigned<DF> di;
     const auto index = hn::Mul(hn::Iota(di, 0), hn::Set(di, 7));
-    return hn::GatherIndex(df, &rays[first].origin.x, hn::Add(index, hn::Set(di, c)));
+    return lane_gather::GatherLanes(df, &rays[first].origin.x, hn::Add(index, hn::Set(di, c)));
 }
 
 // Surface::clip for rays[0, count), count a multiple of Lanes(df): tEnter and tExit per ray

@@ -279,7 +279,7 @@ struct Walk {
 
         // MaxBound::enter: the node's max + slack, then enterBelow.
         const VI offset = nodeOffset(level, nx, ny);
-        const VF top = hn::Add(hn::GatherIndex(df, values, offset), slack);
+        const VF top = hn::Add(lane_gather::GatherLanes(df, values, offset), slack);
         prefetchChildren(level, nx, ny, offset);
         const VF zOut = hn::Add(oz, hn::Mul(et, dz));
         const VF cross = hn::Mul(hn::Sub(top, oz), invZ);

@@ -166,8 +166,8 @@ struct March {
         const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
         const VF pz = hn::Add(oz, hn::Mul(t, dz));
         const VI texel = texelAt(px, py);
-        const VF a = hn::GatherIndex(df, cones, texel);
-        const VF c = hn::GatherIndex(df, cones, hn::Add(texel, oneI));
+        VF a, c;
+        lane_gather::GatherPairs(df, cones, texel, a, c);
         // coneStep where the position is in the frustum and above the floor, else -∞
         const VF room = hn::Mul(c, hn::Sub(pz, a));
         const VF closing = hn::Sub(r.horizontal, hn::Mul(c, dz));

@@ -397,9 +397,9 @@ struct March {
                     fetches = hn::Add(fetches, hn::IfThenElseZero(jumping, oneI));
                     const VF z = hn::Add(oz, hn::Mul(t, dz));
                     const VI texel = texelOf(nV, t);
-                    const VF z0 = hn::GatherIndex(df, texels, texel);
-                    const VF slope = hn::GatherIndex(df, texels, hn::Add(texel, oneI));
-                    const VI r = hn::GatherIndex(di, radii, texel);
+                    VF z0, slope;
+                    lane_gather::GatherPairs(df, texels, texel, z0, slope);
+                    const VI r = lane_gather::GatherLanes(di, radii, texel);
                     // ConeShape::step
                     const VF above = hn::Sub(z, z0);
                     const VF closing = hn::Sub(slope, hn::Load(df, p.rise));
@@ -441,10 +441,10 @@ struct March {
                 const VI ib1 = hn::Min(hn::Max(hn::Add(ib, oneI), minusOne), lenB);
                 const VI rowA = hn::Mul(hn::Add(a, oneI), hn::Load(di, p.heightA));
                 const VI heightB = hn::Load(di, p.heightB);
-                const VF s0 = hn::GatherIndex(df, heights,
-                                              hn::Add(rowA, hn::Mul(hn::Add(ib0, oneI), heightB)));
-                const VF s1 = hn::GatherIndex(df, heights,
-                                              hn::Add(rowA, hn::Mul(hn::Add(ib1, oneI), heightB)));
+                const VF s0 = lane_gather::GatherLanes(
+                    df, heights, hn::Add(rowA, hn::Mul(hn::Add(ib0, oneI), heightB)));
+                const VF s1 = lane_gather::GatherLanes(
+                    df, heights, hn::Add(rowA, hn::Mul(hn::Add(ib1, oneI), heightB)));
                 const VF aboveS = hn::Sub(hn::Add(oz, hn::Mul(t, dz)),
                                           hn::Add(s0, hn::Mul(hn::Sub(bF, fb), hn::Sub(s1, s0))));
                 const MI up = hn::RebindMask(di, hn::Gt(aboveS, margin));
