@@ -32,7 +32,8 @@ struct Packet {
     alignas(64) float ta[kLanes], tb[kLanes];
     alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
     alignas(64) float invX[kLanes], invY[kLanes], exitX[kLanes], exitY[kLanes];
-    // ci, cj: the cell; wi, wj: its column and row in the padded heights (wrapped in repeat mode)
+    // ci, cj: the cell; wi, wj: its column and row in the padded heights, wrapped (repeat mode
+    // only)
     alignas(64) int32_t ci[kLanes], cj[kLanes], wi[kLanes], wj[kLanes];
     alignas(64) int32_t stepX[kLanes], stepY[kLanes], steps[kLanes], active[kLanes];
     alignas(64) int32_t candidate[kLanes], done[kLanes];
@@ -77,11 +78,13 @@ struct Walk {
         p.tb[lane] = p.ta[lane] = 0.0f;
     }
 
-    // cellsHit's loop in every active lane until the batch is done.
+    // cellsHit's loop in every active lane until the batch is done. kRepeat: the surface's
+    // repeat mode, compiled in (in clamp mode a cell's padded column and row are its own, +1, so
+    // the wrapped ones wi, wj are work only repeat needs).
+    template <bool kRepeat>
     void run(Packet& p) {
         const DF df;
         const DI di;
-        const bool clamp = s.edge() == EdgeMode::Clamp;
         const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
         const VF zero = hn::Zero(df);
         const int32_t width = s.width(), height = s.height();
@@ -122,15 +125,19 @@ struct Walk {
             hn::Store(ta, df, p.ta);
             hn::Store(ci, di, p.ci);
             hn::Store(cj, di, p.cj);
-            hn::Store(wi, di, p.wi);
-            hn::Store(wj, di, p.wj);
+            if constexpr (kRepeat) {
+                hn::Store(wi, di, p.wi);
+                hn::Store(wj, di, p.wj);
+            }
             hn::Store(steps, di, p.steps);
         };
         reload();
         if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
         for (;;) {
             // One cell of cellsHit (cell_test-inl.h): its exits, the segment [ta, tc] against S.
-            const VI offset = hn::Add(hn::Mul(hn::Add(wj, oneI), stride), hn::Add(wi, oneI));
+            const VI offset = kRepeat
+                                  ? hn::Add(hn::Mul(hn::Add(wj, oneI), stride), hn::Add(wi, oneI))
+                                  : hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
             const auto cell = cell_test::StepCell(df, act, heights, offset, stride, ci, cj,
                                                   {ox, oy, oz, dx, dy, dz}, ta, tb, invX, invY,
                                                   exitX, exitY, stepX, stepY);
@@ -140,14 +147,15 @@ struct Walk {
             steps = hn::Add(steps, hn::IfThenElseZero(act, oneI));
             // The next cell's padded column and row, and in clamp mode whether it leaves the
             // cells.
-            VI wiNext = hn::Add(wi, hn::IfThenElseZero(alongX, stepX));
-            VI wjNext = hn::Add(wj, hn::IfThenElseZero(hn::Not(alongX), stepY));
+            VI wiNext = wi, wjNext = wj;
             MI leaves = hn::AndNot(act, act);  // none (repeat)
-            if (clamp) {
+            if constexpr (!kRepeat) {
                 leaves = hn::Or(hn::Or(hn::Lt(ciNext, minusOne), hn::Gt(ciNext, lastX)),
                                 hn::Or(hn::Lt(cjNext, minusOne), hn::Gt(cjNext, lastY)));
             } else {
                 // Wrapped: columns and rows stay in [0, W) and [0, H).
+                wiNext = hn::Add(wi, hn::IfThenElseZero(alongX, stepX));
+                wjNext = hn::Add(wj, hn::IfThenElseZero(hn::Not(alongX), stepY));
                 wiNext = hn::IfThenElse(hn::Eq(wiNext, columns), zeroI, wiNext);
                 wiNext = hn::IfThenElse(hn::Lt(wiNext, zeroI), lastX, wiNext);
                 wjNext = hn::IfThenElse(hn::Eq(wjNext, rows), zeroI, wjNext);
@@ -159,8 +167,10 @@ struct Walk {
                 ta = hn::IfThenElse(hn::RebindMask(df, act), tc, ta);
                 ci = hn::IfThenElse(act, ciNext, ci);
                 cj = hn::IfThenElse(act, cjNext, cj);
-                wi = hn::IfThenElse(act, wiNext, wi);
-                wj = hn::IfThenElse(act, wjNext, wj);
+                if constexpr (kRepeat) {
+                    wi = hn::IfThenElse(act, wiNext, wi);
+                    wj = hn::IfThenElse(act, wjNext, wj);
+                }
                 continue;
             }
 
@@ -198,8 +208,10 @@ struct Walk {
             hn::Store(hn::IfThenElse(hn::RebindMask(df, goesOn), tc, ta), df, p.ta);
             hn::Store(hn::IfThenElse(goesOn, ciNext, ci), di, p.ci);
             hn::Store(hn::IfThenElse(goesOn, cjNext, cj), di, p.cj);
-            hn::Store(hn::IfThenElse(goesOn, wiNext, wi), di, p.wi);
-            hn::Store(hn::IfThenElse(goesOn, wjNext, wj), di, p.wj);
+            if constexpr (kRepeat) {
+                hn::Store(hn::IfThenElse(goesOn, wiNext, wi), di, p.wi);
+                hn::Store(hn::IfThenElse(goesOn, wjNext, wj), di, p.wj);
+            }
             ForEachLane(finished, [&](size_t k) { fill(p, k); });
             if (hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)))) return;
             reload();
@@ -217,7 +229,10 @@ void CellsHitPackets(const Surface& surface, std::span<const Ray> rays, std::spa
         Walk::park(p, k);
         if (k < hn::Lanes(DF())) walk.fill(p, k);
     }
-    walk.run(p);
+    if (surface.edge() == EdgeMode::Repeat)
+        walk.run<true>(p);
+    else
+        walk.run<false>(p);
 }
 
 }  // namespace HWY_NAMESPACE
