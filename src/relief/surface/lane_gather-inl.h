@@ -2,9 +2,9 @@
 // cell_test-inl.h): one value per lane (GatherLanes) or two neighbours per lane (GatherPairs).
 // On AVX2 these are scalar loads put together in registers instead of vgather, which is
 // microcoded and slow on first-generation Zen: there the loads made each walk 1–24 % faster
-// (docs/benchmarks-packets.md, "Loads by lane"; other AVX2 CPUs not measured). Highway has no such option
-// (its AVX2 GatherIndex is the instruction), so it is written here. SSE4 (emulated by Highway
-// already) and AVX-512 (fast gathers on the machines measured) keep GatherIndex.
+// (docs/benchmarks-packets.md, "Loads by lane"; other AVX2 CPUs not measured). Highway has no
+// such option (its AVX2 GatherIndex is the instruction), so it is written here. SSE4 (emulated
+// by Highway already) and AVX-512 (fast gathers on the machines measured) keep GatherIndex.
 #if defined(RELIEF_SURFACE_LANE_GATHER_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef RELIEF_SURFACE_LANE_GATHER_INL_H_
 #undef RELIEF_SURFACE_LANE_GATHER_INL_H_
