@@ -15,6 +15,7 @@
 #include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/safety_cc/safety_cc_packet.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 
@@ -85,6 +86,10 @@ struct March {
                 axis == 0 ? width + 2 : 1};
     }
     const ClassLayout layouts[4] = {classLayout(0), classLayout(1), classLayout(2), classLayout(3)};
+    // How many lanes must want a jump or a bisection step before a pass takes them (see pass):
+    // 5 of 8 lanes, the best of 1, 3, 5, 6 and 8 on AVX2 (docs/benchmarks-packets.md,
+    // 2026-12-07, stop 42); the same share of other widths.
+    const size_t probeBatch = std::max<size_t>(1, hn::Lanes(DF()) * 5 / 8);
     // Whether no ray can fall back on the exact walk for its direction or origin (φ_max = 90°, no
     // exterior maps): the starts are then made across lanes.
     const bool startsAcrossLanes = !std::isfinite(safety::tanPhiMax(tracer.options().phiMaxDeg)) &&
@@ -381,8 +386,14 @@ struct March {
                 }
             }
 
+            // The probes (a jump's fetch and landing, a bisection step) are a vector's work however
+            // few lanes take one, and most passes have lanes in both phases: the lanes that want a
+            // probe wait, their state unchanged, until probeBatch of them do or no lane walks a
+            // cell this pass (so that a pass always moves some lane on). A lane's steps are the
+            // same, only later.
             const MI probing0 = hn::Or(jumping, bisecting);
-            if (!hn::AllFalse(di, probing0)) {
+            const size_t probes = hn::CountTrue(di, probing0);
+            if (probes >= probeBatch || (probes > 0 && hn::AllFalse(di, walking))) {
                 const VI nV = hn::Load(di, p.n), count = hn::Load(di, p.count);
                 const VI loV = hn::Load(di, p.lo), hiV = hn::Load(di, p.hi);
                 const VI k0 = hn::Load(di, p.k0), sign = hn::Load(di, p.sign);
