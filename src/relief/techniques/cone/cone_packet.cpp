@@ -14,6 +14,7 @@
 #include <relief/surface/ray_feed-inl.h>
 #include <relief/techniques/cone/cone_packet.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -45,6 +46,9 @@ struct March {
     std::span<const Ray> rays;
     std::span<Hit> hits;
     ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
+    // How many lanes wait for a cell test together (see step): 3 of 8 lanes, the best of 1–5 on
+    // AVX2 (docs/benchmarks-packets.md, 2026-12-07, stop 42); the same share of other widths.
+    const size_t testBatch = std::max<size_t>(1, hn::Lanes(DF()) * 3 / 8);
 
     // Puts the batch's next ray that enters the box into `lane` (as safeStepMarch starts it), or
     // parks the lane (at t = 0 on a valid texel, never done).
@@ -154,8 +158,6 @@ struct March {
         const VF t = r.t, tExit = r.tExit, ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx,
                  dy = r.dy, dz = r.dz;
 
-        r.steps = hn::Add(r.steps, hn::IfThenElseZero(act, oneI));
-        r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(act, oneI));
         // The map's texel at (x, y) (ConeMap::at, clamp mode), as the index of its a.
         const auto texelAt = [&](VF x, VF y) {
             const VI ix = hn::Min(hn::Max(hn::ConvertTo(di, hn::Floor(x)), zeroI), lastX);
@@ -178,7 +180,17 @@ struct March {
         const MI stepping = hn::And(act, hn::RebindMask(di, hn::Ge(dt, stall)));
         const VF stepped = hn::Add(t, dt);
         const MI leaves = hn::And(stepping, hn::RebindMask(di, hn::Ge(stepped, tExit)));
-        const MI tests = hn::AndNot(stepping, act);
+        // Lanes that stall take the exact test of their cell, four gathers and both planes: a
+        // vector's work however few lanes need it. They wait, their state unchanged, until
+        // testBatch of them (or every active lane) do, and take it together; a waiting lane
+        // repeats this step exactly, and its steps and fetches are counted once.
+        const MI stalls = hn::AndNot(stepping, act);
+        const size_t waiting = hn::CountTrue(di, stalls);
+        const bool testNow = waiting >= testBatch || waiting == hn::CountTrue(di, act);
+        const MI tests = testNow ? stalls : hn::AndNot(act, act);
+        const MI counted = testNow ? act : hn::AndNot(stalls, act);
+        r.steps = hn::Add(r.steps, hn::IfThenElseZero(counted, oneI));
+        r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(counted, oneI));
 
         VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
         MI candidate = hn::AndNot(act, act), cellExit = candidate;
