@@ -26,14 +26,17 @@ struct Box {
     float x0, y0, x1, y1;
 };
 
-float boxDistance(const Box& a, const Box& b) {
+// Always inlined: the searches call it for every node they meet, and GCC kept it out of line,
+// where the calls were a fifth of a 1024² bake (peaks6; inlined: 9 % faster, same maps).
+[[gnu::always_inline]] inline float boxDistance(const Box& a, const Box& b) {
     const float dx = std::max({0.0f, b.x0 - a.x1, a.x0 - b.x1});
     const float dy = std::max({0.0f, b.y0 - a.y1, a.y0 - b.y1});
     return std::sqrt(dx * dx + dy * dy);
 }
 
-// The largest distance from a to a point of b: no box inside b is farther from a.
-float farthestDistance(const Box& a, const Box& b) {
+// The largest distance from a to a point of b: no box inside b is farther from a. (Inlined as
+// boxDistance is.)
+[[gnu::always_inline]] inline float farthestDistance(const Box& a, const Box& b) {
     const float dx = std::max({0.0f, b.x1 - a.x1, a.x0 - b.x0});
     const float dy = std::max({0.0f, b.y1 - a.y1, a.y0 - b.y0});
     return std::sqrt(dx * dx + dy * dy);
@@ -283,8 +286,7 @@ private:
                    Walked& walked) const {
         thread_local std::vector<Node> heap;
         heap.clear();
-        for (int k = 0; k < int(m_shifts.size()); ++k)
-            heap.push_back(node(foot, m_layout.topLevel(), 0, 0, k));
+        addRoots(foot, heap);
         std::make_heap(heap.begin(), heap.end());
         RunningFit running(coneHeight());
         float best = 0.0f;
@@ -444,10 +446,14 @@ private:
                     visit(node(foot, n.level - 1, x, y, n.shift));
             }
     }
+    // The roots (one per shift), appended to `nodes`.
+    void addRoots(const Box& foot, std::vector<Node>& nodes) const {
+        for (int k = 0; k < int(m_shifts.size()); ++k)
+            nodes.push_back(node(foot, m_layout.topLevel(), 0, 0, k));
+    }
     std::vector<Node> rootsOf(const Box& foot) const {
         std::vector<Node> roots;
-        for (int k = 0; k < int(m_shifts.size()); ++k)
-            roots.push_back(node(foot, m_layout.topLevel(), 0, 0, k));
+        addRoots(foot, roots);
         return roots;
     }
 
@@ -463,7 +469,8 @@ private:
         for (const Point& p : probe.overlapping)
             if (!(p.r > reach) && ratioOf(p) > s) return false;
         thread_local std::vector<Node> stack;
-        stack = rootsOf(probe.foot);
+        stack.clear();  // kept from the last call: no allocation per query
+        addRoots(probe.foot, stack);
         while (!stack.empty()) {
             const Node n = stack.back();
             stack.pop_back();
@@ -489,7 +496,8 @@ private:
         for (const Point& p : probe.overlapping)
             if (ratioOf(p) > lo && before(p, first)) first = p;
         thread_local std::vector<Node> heap;
-        heap = rootsOf(probe.foot);
+        heap.clear();
+        addRoots(probe.foot, heap);
         std::make_heap(heap.begin(), heap.end());
         while (!heap.empty()) {
             std::pop_heap(heap.begin(), heap.end());
@@ -572,9 +580,14 @@ private:
                 }
         }
     }
-    static bool byBound(const std::pair<float, Node>& p, const std::pair<float, Node>& q) {
-        return p.first < q.first;
-    }
+    // A function object, not a function: the heap operations inline it (through a function
+    // pointer they called it for every comparison).
+    struct ByBound {
+        bool operator()(const std::pair<float, Node>& p, const std::pair<float, Node>& q) const {
+            return p.first < q.first;
+        }
+    };
+    static constexpr ByBound byBound{};
 
     const Surface& m_s;
     QdmBuildParams m_params;
