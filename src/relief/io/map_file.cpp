@@ -74,7 +74,8 @@ PartAttributes attributesOf(const MapFile& file, const TechniqueMaps& t, const M
             file.source.edge,
             fmt::format("{:.9g}", file.source.depth),
             index,
-            parts};
+            parts,
+            {}};  // the checksum: partAttributes fills it in
 }
 
 // CRC-32 (zlib's, which libpng already links) over the part's relief attributes, its size and

@@ -51,10 +51,6 @@ size_t levelAlignment(const VkFormatInfo& f) { return std::lcm(size_t(texelBytes
 void put32(std::vector<unsigned char>& out, uint32_t v) {
     for (int k = 0; k < 4; ++k) out.push_back((unsigned char)(v >> (8 * k)));
 }
-void put64(std::vector<unsigned char>& out, uint64_t v) {
-    put32(out, uint32_t(v));
-    put32(out, uint32_t(v >> 32));
-}
 void set32(std::vector<unsigned char>& out, size_t at, uint32_t v) {
     for (int k = 0; k < 4; ++k) out[at + size_t(k)] = (unsigned char)(v >> (8 * k));
 }
