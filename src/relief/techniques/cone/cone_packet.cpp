@@ -180,7 +180,7 @@ struct March {
         const MI stepping = hn::And(act, hn::RebindMask(di, hn::Ge(dt, stall)));
         const VF stepped = hn::Add(t, dt);
         const MI leaves = hn::And(stepping, hn::RebindMask(di, hn::Ge(stepped, tExit)));
-        // Lanes that stall take the exact test of their cell, four gathers and both planes: a
+        // Lanes that stall take the exact test of their cell, four corners and both planes: a
         // vector's work however few lanes need it. They wait, their state unchanged, until
         // testBatch of them (or every active lane) do, and take it together; a waiting lane
         // repeats this step exactly, and its steps and fetches are counted once.
