@@ -79,9 +79,9 @@ inline void checkAndReport(const TechniqueInfo& info, Contract contract, const R
 // What the harness found for one row and parameter set.
 struct ContractRun {
     Contract contract = Contract::Approximate;  // contractOf(row, parameters)
-    Tally tally;
-    std::vector<std::string> brokenOn;  // "fbm 64x64 clamp": map cases where the contract broke
-    std::string error;                  // a tracer could not be made
+    Tally tally = {};
+    std::vector<std::string> brokenOn = {};  // "fbm 64x64 clamp": map cases where the contract broke
+    std::string error = {};                  // a tracer could not be made
 };
 
 // Traces `tracer` and the reference on `count` rays of `surface` (seeded), adding to `run` and

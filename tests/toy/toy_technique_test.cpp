@@ -122,10 +122,12 @@ TEST(Architecture, DocumentNamesEveryFolder) {
     std::ifstream in(fs::path(RELIEF_SOURCE_DIR) / "docs/architecture.md");
     const std::string doc{std::istreambuf_iterator<char>(in), {}};
     ASSERT_FALSE(doc.empty());
-    for (const auto& entry : fs::directory_iterator(fs::path(RELIEF_SOURCE_DIR) / "src/relief"))
-        if (entry.is_directory())
+    for (const auto& entry : fs::directory_iterator(fs::path(RELIEF_SOURCE_DIR) / "src/relief")) {
+        if (entry.is_directory()) {
             EXPECT_NE(doc.find("| `" + entry.path().filename().string() + "/` |"), std::string::npos)
                 << entry.path().filename() << " is not in the folder table";
+        }
+    }
     EXPECT_NE(doc.find("tests/toy/"), std::string::npos);
 }
 

@@ -14,6 +14,7 @@
 #include <hwy/highway.h>
 #include <relief/core/math.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
@@ -89,6 +90,20 @@ HWY_INLINE void ForEachLane(MI lanes, F&& f) {
     uint64_t bits = 0;
     std::memcpy(&bits, bytes, sizeof(bits));
     ForEachLane(bits, f);
+}
+
+// Batched blocks: where a block of a walk (a cell test, a probe) costs a whole vector's work
+// however few lanes need it, the lanes that need it wait, their state unchanged, until a batch of
+// them do. BatchOf: `eighths` eighths of the target's lanes, at least one (each walk measured its
+// share on AVX2, docs/benchmarks-packets.md); BatchReady: whether the lanes `waiting` take the
+// block now, a batch of them or every active lane (then nothing else would move).
+inline size_t BatchOf(size_t eighths) {
+    return std::max<size_t>(1, hn::Lanes(DF()) * eighths / 8);
+}
+
+HWY_INLINE bool BatchReady(MI waiting, MI active, size_t batch) {
+    const size_t count = hn::CountTrue(DI(), waiting);
+    return count >= batch || count == hn::CountTrue(DI(), active);
 }
 
 }  // namespace packet_lanes

@@ -105,18 +105,18 @@ enum class ClaimMetric : uint8_t {
 // value itself (arithmetic mean over the views). Map labels as the bench names them ("fbm:512x512");
 // empty: every map, the same one on both sides.
 struct ClaimMeasure {
-    std::string_view numerator, denominator;
+    std::string_view numerator = {}, denominator = {};
     std::string_view numeratorMap = {}, denominatorMap = {};
 };
 // A paper's headline claim, judged from a run: its value with the paper's own variant (the
 // verdict) and, beside it, with our safe variant.
 struct ClaimSpec {
-    std::string_view source;  // where the paper says it: "Fig. 9", "Table 1", "§8"
-    std::string_view claim;   // its wording, short
-    std::string_view paper;   // the paper's number
-    std::string_view part;    // the study (preset name) of the page that measures it
+    std::string_view source = {};  // where the paper says it: "Fig. 9", "Table 1", "§8"
+    std::string_view claim = {};   // its wording, short
+    std::string_view paper = {};   // the paper's number
+    std::string_view part = {};    // the study (preset name) of the page that measures it
     ClaimMetric metric = ClaimMetric::Speed;
-    ClaimMeasure paperVariant;
+    ClaimMeasure paperVariant = {};
     ClaimMeasure safeVariant = {};  // empty numerator: no safe variant to show
     float minElevation = -90.0f, maxElevation = 90.0f;  // the views it is judged on
     int cap = -1;  // the rows' iteration cap: -1 the largest the part runs, 0 the row's default
@@ -124,26 +124,27 @@ struct ClaimSpec {
     std::string_view whyAgrees = {}, whyDisagrees = {};  // the reason the page shows with the verdict
 };
 struct PaperRatioSpec {
-    std::string_view what, paper;
-    std::string_view numeratorTechnique, numeratorMap, denominatorTechnique, denominatorMap;
+    std::string_view what = {}, paper = {};
+    std::string_view numeratorTechnique = {}, numeratorMap = {}, denominatorTechnique = {},
+                     denominatorMap = {};
     std::string_view backend = "cpu";
 };
 inline constexpr float kShadowLightAzimuth = 135.0f;  // degrees: StudySpec::shadowElevation's light
 struct StudySpec {
-    std::string_view name, description;
+    std::string_view name = {}, description = {};
     StudyKind kind = StudyKind::Views;
-    std::span<const std::string_view> maps;        // gen:NAME:WxH or repository paths ({N}: each size)
-    std::span<const std::string_view> techniques;  // NAME or NAME:PARAM=V[:PARAM=V]
-    std::span<const float> elevations;             // empty = the standard elevations
-    std::span<const int> caps;                     // iteration caps, for rows that have one
-    std::span<const int> sizes;                    // map sizes N (N×N) for Builds and Scaling
-    int width = 640, height = 512;                 // primary rays per view
+    std::span<const std::string_view> maps = {};        // gen:NAME:WxH or repository paths ({N}: each size)
+    std::span<const std::string_view> techniques = {};  // NAME or NAME:PARAM=V[:PARAM=V]
+    std::span<const float> elevations = {};             // empty = the standard elevations
+    std::span<const int> caps = {};                     // iteration caps, for rows that have one
+    std::span<const int> sizes = {};                    // map sizes N (N×N) for Builds and Scaling
+    int width = 640, height = 512;                      // primary rays per view
     float depthRatio = 0.1f;
     float distance = 1.0f;   // camera distance in box diagonals
     bool peerTable = false;  // the report adds the reference-vs-peers table per view
-    std::string_view compare;  // "A/B" (row labels): the report adds A-vs-B tables by view and cap
-    std::string_view paperNotes;
-    std::span<const PaperRatioSpec> paperRatios;
+    std::string_view compare = {};  // "A/B" (row labels): the report adds A-vs-B tables by view and cap
+    std::string_view paperNotes = {};
+    std::span<const PaperRatioSpec> paperRatios = {};
     bool imageMethod = false;  // rows draw with their own TechniqueInfo::image, not one ray per pixel
     // > 0: every row also traces shadow rays toward a light at this elevation (degrees; azimuth
     // kShadowLightAzimuth) from the reference's primary hits, from the light toward the point as

@@ -55,7 +55,7 @@ struct Walk {
     ray_feed::RayFeed feed{s, rays, hits};            // the rays, clipped a chunk at a time
     // How many lanes wait for a cell test together (see run): 3 of 8 lanes, the best of 1–4 on
     // AVX2 (docs/benchmarks-packets.md, 2026-12-07); the same share of other widths.
-    const size_t leafBatch = std::max<size_t>(1, hn::Lanes(DF()) * 3 / 8);
+    const size_t leafBatch = BatchOf(3);
     const float* heights = s.paddedHeights().data();  // the cell tests' corners
 
     // The feed's current chunk's starts (makeWalkRay and startCursor per ray), made a chunk at a
@@ -297,8 +297,7 @@ struct Walk {
         // double) costs a whole vector's work however few lanes need it. A waiting lane's state
         // stays as it is, so it repeats this step exactly; its steps are counted once.
         const MI atLeafBelow = hn::And(below, atLeaf);
-        const size_t waiting = hn::CountTrue(di, atLeafBelow);
-        const bool testCells = waiting >= leafBatch || waiting == hn::CountTrue(di, act);
+        const bool testCells = BatchReady(atLeafBelow, act, leafBatch);
         const MI none = hn::AndNot(act, act);
         const MI leaf = testCells ? atLeafBelow : none;
         const MI frozen = testCells ? none : atLeafBelow;

@@ -48,7 +48,7 @@ struct March {
     ray_feed::RayFeed feed{s, rays, hits};  // the rays, clipped a chunk at a time
     // How many lanes wait for a cell test together (see step): 3 of 8 lanes, the best of 1–5 on
     // AVX2 (docs/benchmarks-packets.md, 2026-12-07, stop 42); the same share of other widths.
-    const size_t testBatch = std::max<size_t>(1, hn::Lanes(DF()) * 3 / 8);
+    const size_t testBatch = BatchOf(3);
 
     // Puts the batch's next ray that enters the box into `lane` (as safeStepMarch starts it), or
     // parks the lane (at t = 0 on a valid texel, never done).
@@ -185,8 +185,7 @@ struct March {
         // testBatch of them (or every active lane) do, and take it together; a waiting lane
         // repeats this step exactly, and its steps and fetches are counted once.
         const MI stalls = hn::AndNot(stepping, act);
-        const size_t waiting = hn::CountTrue(di, stalls);
-        const bool testNow = waiting >= testBatch || waiting == hn::CountTrue(di, act);
+        const bool testNow = BatchReady(stalls, act, testBatch);
         const MI tests = testNow ? stalls : hn::AndNot(act, act);
         const MI counted = testNow ? act : hn::AndNot(stalls, act);
         r.steps = hn::Add(r.steps, hn::IfThenElseZero(counted, oneI));

@@ -89,7 +89,7 @@ struct March {
     // How many lanes must want a jump or a bisection step before a pass takes them (see pass):
     // 5 of 8 lanes, the best of 1, 3, 5, 6 and 8 on AVX2 (docs/benchmarks-packets.md,
     // 2026-12-07, stop 42); the same share of other widths.
-    const size_t probeBatch = std::max<size_t>(1, hn::Lanes(DF()) * 5 / 8);
+    const size_t probeBatch = BatchOf(5);
     // Whether no ray can fall back on the exact walk for its direction or origin (φ_max = 90°, no
     // exterior maps): the starts are then made across lanes.
     const bool startsAcrossLanes = !std::isfinite(safety::tanPhiMax(tracer.options().phiMaxDeg)) &&
