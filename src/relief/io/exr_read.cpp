@@ -2,11 +2,13 @@
 // read as float). Height comes from Y, else R/G/B luminance, else the only channel; --channel
 // picks R, G, B or A by name. OpenEXR reports errors by exception; none leaves this file.
 #include <relief/io/exr_stream.h>
+#include <relief/core/parallel.h>
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <ImfThreading.h>
 
 #include <fmt/format.h>
 
@@ -23,6 +25,14 @@ void limitExrSizes() {
         Imf::Header::setMaxImageSize(kMaxDimension, kMaxDimension);
         Imf::Header::setMaxTileSize(kMaxDimension, kMaxDimension);
     });
+}
+
+int exrWriteThreads() {
+    static std::mutex mutex;  // the pool is the process's: size it once per limit, not per file
+    const std::lock_guard lock(mutex);
+    const int threads = std::max(1, ThreadLimit::current());
+    if (Imf::globalThreadCount() != threads) Imf::setGlobalThreadCount(threads);
+    return threads;
 }
 
 namespace {

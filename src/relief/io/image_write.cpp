@@ -4,6 +4,7 @@
 #include <ImfOutputFile.h>
 #include <png.h>
 #include <relief/io/image_write.h>
+#include <relief/io/exr_stream.h>
 #include <relief/io/npy.h>
 
 #include <cerrno>
@@ -91,7 +92,7 @@ Status writeExr(OutputSet& outputs, const std::string& path, const ImageF& image
         try {
             Imf::Header header(image.width, image.height);
             header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
-            Imf::OutputFile file(temp.c_str(), header);
+            Imf::OutputFile file(temp.c_str(), header, exrWriteThreads());
             Imf::FrameBuffer frame;
             frame.insert("Y", Imf::Slice(Imf::FLOAT, (char*)image.pixels.data(), sizeof(float),
                                          sizeof(float) * size_t(image.width)));

@@ -266,7 +266,8 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
     if (headers.empty()) return makeError(ErrorKind::BadArgument, "{}: no maps to write", path);
     return writeAtomically(path, [&](const std::string& temp) -> Status {
         try {
-            Imf::MultiPartOutputFile file(temp.c_str(), headers.data(), int(headers.size()));
+            Imf::MultiPartOutputFile file(temp.c_str(), headers.data(), int(headers.size()), false,
+                                         exrWriteThreads());
             for (size_t p = 0; p < arrays.size(); ++p) {
                 Imf::OutputPart part(file, int(p));
                 part.setFrameBuffer(frameBuffer(*arrays[p], const_cast<float*>(arrays[p]->data.data())));

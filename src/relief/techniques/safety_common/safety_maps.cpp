@@ -794,20 +794,24 @@ public:
         m_lines = alongY ? s.width() : s.height();
         m_length = alongY ? s.height() : s.width();
         m_levels = std::min(kTopLevel, int(std::bit_width(unsigned(m_length))) - 1) + 1;
+        // A scan reads one sample per line, a line apart: lines a power of two of bytes apart
+        // (1024² and every 2^n map) all fall in the same few cache sets and evict each other, so
+        // each line starts on its own cache line plus one more (a sixteenth of a line at 256).
+        m_stride = ((m_length + 15) / 16 + 1) * 16;
         m_data.resize(size_t(m_levels));
         m_lineMax.assign(size_t(m_lines), 0.0f);
         for (int line = 0; line < m_lines; ++line)
             for (int p = 0; p < m_length; ++p)
                 m_lineMax[size_t(line)] = std::max(m_lineMax[size_t(line)], sample(line, p));
         for (int l = kFirstLevel; l < m_levels; l += 2) {
-            m_data[size_t(l)].resize(size_t(m_lines) * size_t(m_length));
+            m_data[size_t(l)].resize(size_t(m_lines) * m_stride);
             const int quarter = 1 << (l - 2);  // four entries of level l − 2 (or samples) make one
             parallelRanges(m_lines, 16, [&](int64_t begin, int64_t end) {
                 for (int64_t line = begin; line < end; ++line) {
-                    float* cur = &m_data[size_t(l)][size_t(line) * size_t(m_length)];
+                    float* cur = &m_data[size_t(l)][size_t(line) * m_stride];
                     const float* prev = l == kFirstLevel
                                             ? nullptr
-                                            : &m_data[size_t(l - 2)][size_t(line) * size_t(m_length)];
+                                            : &m_data[size_t(l - 2)][size_t(line) * m_stride];
                     for (int p = 0; p < m_length; ++p) {
                         float z = -kInfinity;
                         for (int d = 0; d < 4; ++d) {
@@ -822,10 +826,10 @@ public:
     }
 
     // Max of samples [start, start + count) across the axis in `line` (clamped or wrapped).
-    float query(int line, int start, int count, int& lookups) const {
+    float query(int line, int start, int count) const {
         line = m_repeat ? wrap(line, m_lines) : std::clamp(line, 0, m_lines - 1);
         if (m_repeat) {
-            if (count >= m_length) return ++lookups, m_lineMax[size_t(line)];
+            if (count >= m_length) return m_lineMax[size_t(line)];
             start = wrap(start, m_length);
         } else {
             const int end = std::min(start + count, m_length);
@@ -835,23 +839,54 @@ public:
         }
         if (count < (1 << kFirstLevel)) {
             float best = -kInfinity;
-            for (int p = start; p < start + count; ++p, ++lookups)
+            for (int p = start; p < start + count; ++p)
                 best = std::max(best, sample(line, m_repeat ? p % m_length : p));
             return best;
         }
         int level = std::min(m_levels - 1, int(std::bit_width(unsigned(count))) - 1);
         level -= level % 2;  // the stored level below
         const int span = 1 << level;
-        const float* row = &m_data[size_t(level)][size_t(line) * size_t(m_length)];
+        const float* row = &m_data[size_t(level)][size_t(line) * m_stride];
         float best = -kInfinity;
         for (int p = start;; p += span) {  // at most four whenever count < 2^(top+1)
             const int last = start + count - span;
             const int q = std::min(p, last);
             best = std::max(best, row[m_repeat ? q % m_length : q]);
-            ++lookups;
             if (q == last) break;
         }
         return best;
+    }
+
+    // The slope scan's windows of n consecutive abscissas x0 .. x0 + n − 1 (n ≤ kRun): out[k] =
+    // query(line0 + step·x, centre − x − 2, 2x + 5), x = x0 + k. A scan reads one window per
+    // line, each a cache line of its own, and query's branches (how many lookups, where the last
+    // one lies) mispredict, so its loads went one after another (a third of the cone bake was
+    // that wait). Here a clamp-mode window of at most four spans takes exactly four lookups, the
+    // surplus ones repeating the last, without a branch, so that a run's loads overlap. The
+    // maxima are taken in query's order, so the results are the same bits (signed zeros too).
+    static constexpr int kRun = 8;
+    void queryRun(int line0, int step, int centre, int x0, int n, float* out) const {
+        for (int k = 0; k < n; ++k) {
+            const int x = x0 + k;
+            const int line = line0 + step * x;
+            int start = centre - x - 2;
+            const int end = std::min(start + 2 * x + 5, m_length);
+            start = std::max(start, 0);
+            const int count = end - start;
+            const int level = (int(std::bit_width(unsigned(std::max(count, 1)))) - 1) & ~1;
+            if (m_repeat || count < (1 << kFirstLevel) || level >= m_levels ||
+                line < 0 || line >= m_lines) {
+                out[k] = query(line, centre - x - 2, 2 * x + 5);
+                continue;
+            }
+            const int span = 1 << level, last = end - span;
+            const float* row = &m_data[size_t(level)][size_t(line) * m_stride];
+            float best = row[start];  // = max(−∞, row[start]): heights are finite
+            best = std::max(best, row[std::min(start + span, last)]);
+            best = std::max(best, row[std::min(start + 2 * span, last)]);
+            best = std::max(best, row[std::min(start + 3 * span, last)]);
+            out[k] = best;
+        }
     }
 
 private:
@@ -868,6 +903,7 @@ private:
     const Surface& m_surface;
     bool m_alongY, m_repeat;
     int m_lines, m_length, m_levels;
+    size_t m_stride;  // floats from one line's entries to the next's
     std::vector<std::vector<float>> m_data;
     std::vector<float> m_lineMax;
 };
@@ -1007,14 +1043,13 @@ float exteriorConeSlope(const Surface& s, const ExteriorVisibility& visibility, 
 
 // Vertices that rays from s_τ can reach at local abscissa a0 + x lie in rows b0 ± (x + 2).
 ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax* peaks, int cls,
-                    int i, int j, int r, const ExteriorVisibility* exteriorSlope, double tanPhi,
-                    int& lookups) {
+                    int i, int j, int r, const ExteriorVisibility* exteriorSlope, double tanPhi) {
     const Frame f{cls};
     int a0, b0;
     f.texel(i, j, a0, b0);
     const bool forward = cls == kXPlus || cls == kYPlus;
     const int line0 = lineOf(f, a0), step = forward ? 1 : -1;  // line of a0 + x: line0 + step·x
-    auto hbar = [&](int x) { return windows.query(line0 + step * x, b0 - x - 2, 2 * x + 5, lookups); };
+    auto hbar = [&](int x) { return windows.query(line0 + step * x, b0 - x - 2, 2 * x + 5); };
     const float maxZ = s.maxZ();
     ConeTexel c;
     c.r = r;
@@ -1034,6 +1069,8 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
         return c;
     }
     int nextTry = r + 1;  // after a failed skip, none until past its run (rough terrain)
+    float run[WindowMax::kRun];
+    int runFrom = -WindowMax::kRun;  // run[k]: hbar(runFrom + k), while runFrom ≤ x < runFrom + kRun
     for (int x = r + 1; x <= xEnd; ++x) {
         if (slope >= 0.0f && float(x - r) * slope >= maxZ - c.zc) break;  // nothing can raise it
         if (peaks && slope > -kInfinity && x >= nextTry) {
@@ -1042,7 +1079,10 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
             const int line = line0 + step * x;
             const int top = std::min(peaks->levels() - 1, int(std::bit_width(unsigned(x + 4))));
             int skipTo = 0;
-            for (int level = top; level >= std::max(1, top - 1) && !skipTo; --level) {
+            // Three block sizes, the largest first: on smooth hills a run the two largest cannot
+            // prove (the peak that set the slope lies in them) a smaller one often can; peaks6
+            // 1024² reads a fifth fewer windows, 4 % less time (fbm and a sea crop: the same).
+            for (int level = top; level >= std::max(1, top - 2) && !skipTo; --level) {
                 const int start = (line >> level) << level;
                 const int count = forward ? start + (1 << level) - line : line - start + 1;
                 const int x2 = std::min(x + count - 1, xEnd);
@@ -1064,7 +1104,11 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
         // The division only where its quotient could exceed the slope: a rise below
         // slope·(x − r) by more than 2^-22 of it gives a quotient below the slope even after
         // rounding (≤ 2^-24), and max would keep the slope, so the result is the same.
-        const float rise = hbar(x) - c.zc;
+        if (x >= runFrom + WindowMax::kRun) {  // the next run of windows, read together
+            runFrom = x;
+            windows.queryRun(line0, step, b0, x, std::min(WindowMax::kRun, xEnd + 1 - x), run);
+        }
+        const float rise = run[x - runFrom] - c.zc;
         const double reach = double(slope) * double(x - r);
         if (slope == -kInfinity || double(rise) >= reach - std::abs(reach) * 0x1p-22)
             slope = std::max(slope, rise / float(x - r));
@@ -1158,13 +1202,12 @@ void buildCones(const Surface& s, const DistanceMap& radii, const BuildOptions& 
     for (int axis = 0; axis < 2; ++axis) {  // one N-buffer orientation at a time (memory)
         const WindowMax windows(s, axis == 0);
         parallelRanges(h, 1, [&](int64_t begin, int64_t end) {
-            int lookups = 0;
             for (int64_t j = begin; j < end; ++j)
                 for (int cls = 2 * axis; cls < 2 * axis + 2; ++cls)
                     for (int i = 0; i < w; ++i) {
                         const ConeTexel t = coneTexel(s, windows, peaks.get(), cls, i, int(j),
                                                       radii.at(cls, i, int(j)), exterior.get(),
-                                                      tanPhi, lookups);
+                                                      tanPhi);
                         const size_t k = size_t(j) * size_t(w) + size_t(i);
                         if (classes == kClassCount) {
                             store.set(cls, k, t);
