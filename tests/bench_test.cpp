@@ -47,7 +47,9 @@ TEST(BenchCommand, QuickPresetWritesSaneReport) {
             EXPECT_LE(row.at("wrong_rate").get<double>(), 1e-3) << technique;
         }
         const std::string images = row.at("images");
-        if (!images.empty()) EXPECT_TRUE(fs::exists(out / (images + "-steps.png"))) << images;
+        if (!images.empty()) {
+            EXPECT_TRUE(fs::exists(out / (images + "-steps.png"))) << images;
+        }
     }
     EXPECT_GT(exactRows, 0u);
     EXPECT_GT(embreeRows, 0u);
@@ -352,7 +354,9 @@ TEST(BenchCommand, PaperPageJudgesClaimsFromItsParts) {
             EXPECT_NEAR(c.at("paper_variant").get<double>(), sum / n, 1e-9);
             EXPECT_EQ(c.at("safe_variant").get<double>(), 0.0) << "the safe qdm never steps past a hit";
         }
-        if (c.at("source") == "Table 1") EXPECT_EQ(verdict, "not measured") << "timings are off in this run";
+        if (c.at("source") == "Table 1") {
+            EXPECT_EQ(verdict, "not measured") << "timings are off in this run";
+        }
     }
     EXPECT_TRUE(seenSteps && seenPast);
     fs::remove_all(out);
@@ -429,8 +433,12 @@ TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
         }
         ASSERT_TRUE(r.contains("shadow_mrays_per_s")) << technique;
         EXPECT_GT(r.at("shadow_mrays_per_s").get<double>(), 0.0) << technique;
-        if (r.at("contract") == "exact") EXPECT_EQ(r.at("shadow_wrong_rate").get<double>(), 0.0);
-        if (r.at("contract") == "peer") EXPECT_LE(r.at("shadow_wrong_rate").get<double>(), 1e-3) << technique;
+        if (r.at("contract") == "exact") {
+            EXPECT_EQ(r.at("shadow_wrong_rate").get<double>(), 0.0);
+        }
+        if (r.at("contract") == "peer") {
+            EXPECT_LE(r.at("shadow_wrong_rate").get<double>(), 1e-3) << technique;
+        }
     }
     EXPECT_EQ(rowsByMap["fbm:32x32:1"], (std::set<std::string>{"embree-1", "embree-16", "exact", "safety-cc"}));
     EXPECT_EQ(rowsByMap["fbm:1032x1024:1"], (std::set<std::string>{"embree-1", "embree-16", "exact"}));
@@ -450,9 +458,12 @@ TEST(BenchCommand, CpuPeersTimesShadowsAndJudgesTargets) {
         judged += line.ends_with("| met |") || line.ends_with("| not met |");
         notRun += line.ends_with("| not run |");
         // safety-cc's targets count the 32² map's view only; exact's both maps'.
-        if (line.rfind("| safety-cc", 0) == 0)
+        if (line.rfind("| safety-cc", 0) == 0) {
             EXPECT_TRUE(line.find("| 1/1 |") != std::string::npos || line.find("| 0/1 |") != std::string::npos) << line;
-        if (line.rfind("| exact", 0) == 0) EXPECT_NE(line.find("/2 |"), std::string::npos) << line;
+        }
+        if (line.rfind("| exact", 0) == 0) {
+            EXPECT_NE(line.find("/2 |"), std::string::npos) << line;
+        }
     }
     EXPECT_EQ(judged, 4);  // safety-cc and exact, primary and shadow
     EXPECT_EQ(notRun, 4);  // quadtree and cone: not among the rows

@@ -200,12 +200,13 @@ TEST_P(EdgeCaseTest, DegenerateMapsAndRays) {
             const Tally before = tally;
             for (size_t k = 0; k < rays.size(); ++k)
                 checkAndReport(info, info.contract, rays[k], hits[k], reference[k], tally);
-            if (info.contract != Contract::Approximate)
+            if (info.contract != Contract::Approximate) {
                 EXPECT_TRUE(tally.wrongHitMiss == before.wrongHitMiss && tally.pastFirstHit == before.pastFirstHit &&
                             tally.beyondTolerance == before.beyondTolerance)
                     << "hit/miss " << tally.wrongHitMiss - before.wrongHitMiss << ", past first hit "
                     << tally.pastFirstHit - before.pastFirstHit << ", |dt| > 1e-3 "
                     << tally.beyondTolerance - before.beyondTolerance;
+            }
             const std::vector<Ray> bad = nonFiniteRays();
             std::vector<Hit> badHits(bad.size());
             (*tracer)->traceBatch(bad, badHits);

@@ -203,7 +203,7 @@ TEST_F(Inputs, FarRaysHitInsideTheBox) {
 }
 
 TEST_F(Inputs, QuietPrintsErrorsOnly) {
-    for (const std::string args :
+    for (const std::string& args :
          {"-q " + kRender + "--deterministic",
           "-q " + kRender + "-t safety-cc --param phi-max=-45 --elevation 30",
           "-q bake " + kMap + " -t cone -o {tmp}/q.exr",

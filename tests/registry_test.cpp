@@ -49,7 +49,9 @@ TEST(RegistryTest, RowsAreComplete) {
         for (const PathCase& c : info.pathCases) expectValidParamList(info, c.params, "path case");
         for (const GlslConstant& c : info.glslConstants) {
             EXPECT_EQ(c.name.substr(0, 1), "k") << info.name << ": " << c.name;
-            if (c.integer) EXPECT_EQ(c.value, double(int64_t(c.value))) << c.name;
+            if (c.integer) {
+                EXPECT_EQ(c.value, double(int64_t(c.value))) << c.name;
+            }
         }
     }
 }
@@ -156,7 +158,9 @@ TEST(RegistryTest, BakedMapsAreTracedAsBaked) {
         (*explicit16)->traceBatch(rays, b);
         for (size_t k = 0; k < rays.size(); ++k) {
             ASSERT_EQ(a[k].hit, b[k].hit) << k;
-            if (a[k].hit) ASSERT_EQ(a[k].t, b[k].t) << k;
+            if (a[k].hit) {
+                ASSERT_EQ(a[k].t, b[k].t) << k;
+            }
         }
         auto contradicted = createTracer(row, surface, {{"bits", 8}}, &file, "test.maps.exr");
         ASSERT_FALSE(contradicted);

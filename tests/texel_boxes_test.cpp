@@ -104,9 +104,10 @@ TEST(TexelBoxes, MatchBruteForce) {
             hits += ref.hit;
             ASSERT_EQ(ref.hit, brute.hit)
                 << walk_test::describe(m) << " " << walk_test::describe(ray);
-            if (ref.hit)
+            if (ref.hit) {
                 ASSERT_NEAR(ref.t, brute.t, 1e-3 * std::max(1.0f, brute.t * 1e-3f))
                     << walk_test::describe(m) << " " << walk_test::describe(ray);
+            }
         }
     }
     std::printf(
@@ -123,7 +124,7 @@ std::vector<MapSpec> embreeMaps() {
                                 "spikes", "terraces", "ramp", "flat"};
     int k = 0;
     for (const char* g : generators)
-        for (const auto [w, h] : {std::pair{33, 17}, std::pair{61, 64}, std::pair{5, 7}})
+        for (const auto& [w, h] : {std::pair{33, 17}, std::pair{61, 64}, std::pair{5, 7}})
             maps.push_back({g, w, h, EdgeMode::Clamp, std::array{0.1f, 0.3f, 1.0f}[k++ % 3]});
     return maps;
 }

@@ -215,7 +215,9 @@ void interiorOriginsStayExact(Make make, bool countsFallbacks) {
         const auto t = safety::testing::tally(tracer, *s, rays);
         EXPECT_EQ(t.wrong, 0u) << g;
         EXPECT_EQ(t.beyond, 0u) << g;
-        if (countsFallbacks) EXPECT_GT(tracer.fallbacks(), 0u) << g;
+        if (countsFallbacks) {
+            EXPECT_GT(tracer.fallbacks(), 0u) << g;
+        }
     }
 }
 

@@ -89,7 +89,9 @@ TEST(ExactPackets, RegistryExactTracesPackets) {
         for (size_t k = 0; k < rays.size(); ++k) {
             const Hit want = scalar.trace(rays[k]);
             EXPECT_TRUE(identical(hits[k], want)) << walk_test::describe(rays[k]);
-            if (packets) EXPECT_TRUE(identical(scalarHits[k], want)) << walk_test::describe(rays[k]);
+            if (packets) {
+                EXPECT_TRUE(identical(scalarHits[k], want)) << walk_test::describe(rays[k]);
+            }
         }
     }
 }

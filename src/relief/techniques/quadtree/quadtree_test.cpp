@@ -68,7 +68,9 @@ void expectTexelBoxHits(const Tracer& tracer, const Surface& surface, uint32_t s
     for (size_t k = 0; k < rays.size(); ++k) {
         const Hit ref = firstTexelBoxHit(surface, rays[k]);
         ASSERT_EQ(hits[k].hit, ref.hit) << walk_test::describe(rays[k]);
-        if (ref.hit) EXPECT_EQ(hits[k].t, ref.t);
+        if (ref.hit) {
+            EXPECT_EQ(hits[k].t, ref.t);
+        }
     }
 }
 
@@ -84,7 +86,9 @@ TEST(Quadtree, TexelBoxesExactOnTheirSurface) {
             },
             [](const std::shared_ptr<const Surface>& s) { return walk_test::TexelBoxReference{s}; },
             ascent == Ascent::Parent ? 300 : 60, "quadtree box-surface=2 vs texel boxes");
-        if (ascent == Ascent::Parent) EXPECT_GE(tally.rays, 100000u);
+        if (ascent == Ascent::Parent) {
+            EXPECT_GE(tally.rays, 100000u);
+        }
         EXPECT_EQ(tally.wrong, 0u);
     }
     const auto surface = walk_test::makeSurface({"walls", 33, 17, EdgeMode::Clamp, 0.3f});

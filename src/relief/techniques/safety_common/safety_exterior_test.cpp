@@ -304,11 +304,12 @@ TEST(SafetyExterior, MapEqualsDirectScanAndIsNeverShorter) {
                 for (int j = 0; j < s->height(); ++j)
                     for (int i = 0; i < s->width(); ++i) {
                         EXPECT_LE(a.at(cls, i, j), e.at(cls, i, j));
-                        if ((i + j) % 3 == 0)
+                        if ((i + j) % 3 == 0) {
                             EXPECT_EQ(e.at(cls, i, j),
                                       safetyDistanceDirect(*s, cls, i, j, tanPhiMax(phi),
                                                            kMaxDistance, true))
                                 << c.generator << " texel " << i << "," << j << " class " << cls;
+                        }
                         if (phi == 90.0) sumAll += a.at(cls, i, j), sumExt += e.at(cls, i, j), ++texels;
                     }
         }
