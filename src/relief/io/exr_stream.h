@@ -1,8 +1,9 @@
 #pragma once
 // What the OpenEXR readers and writers share (internal to src/relief/io; heightfields in
-// exr_read.cpp, maps in map_file.cpp, images in image_write.cpp): input through a FileReader, so that files and bytes in memory decode alike, and
-// the checks made before OpenEXR sees a header. Stream errors are thrown as OpenEXR's own
-// exceptions, which its callers already catch.
+// exr_read.cpp, maps in map_file.cpp, images in image_write.cpp): input through a FileReader, so
+// that files and bytes in memory decode alike, the checks made before OpenEXR sees a header, and
+// the writers' thread count. Stream errors are thrown as OpenEXR's own exceptions, which its
+// callers already catch.
 #include <relief/io/read_common.h>
 
 #include <Iex.h>
@@ -18,7 +19,7 @@ void limitExrSizes();
 
 // The threads an OpenEXR writer compresses with: the process's thread limit (ThreadLimit), after
 // sizing OpenEXR's own worker pool to it. Its default pool is empty, so a file's zip blocks were
-// compressed one after another: 1.5 s of a 12 s safety-cc bake at 1024² on 2 threads. The bytes
+// compressed one after another: 1.1–1.3 s of a 12 s safety-cc bake at 1024² on 2 threads. The bytes
 // are the same either way (each block is compressed on its own and written in order).
 int exrWriteThreads();
 
