@@ -1101,13 +1101,13 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
             }
             nextTry = x + std::max(1, (x - r) / 2);
         }
-        // The division only where its quotient could exceed the slope: a rise below
-        // slope·(x − r) by more than 2^-22 of it gives a quotient below the slope even after
-        // rounding (≤ 2^-24), and max would keep the slope, so the result is the same.
         if (x >= runFrom + WindowMax::kRun) {  // the next run of windows, read together
             runFrom = x;
             windows.queryRun(line0, step, b0, x, std::min(WindowMax::kRun, xEnd + 1 - x), run);
         }
+        // The division only where its quotient could exceed the slope: a rise below
+        // slope·(x − r) by more than 2^-22 of it gives a quotient below the slope even after
+        // rounding (≤ 2^-24), and max would keep the slope, so the result is the same.
         const float rise = run[x - runFrom] - c.zc;
         const double reach = double(slope) * double(x - r);
         if (slope == -kInfinity || double(rise) >= reach - std::abs(reach) * 0x1p-22)
