@@ -1,3 +1,4 @@
+#include <relief/core/parallel.h>
 #include <relief/io/heightfield_io.h>
 #include <relief/io/map_file.h>
 #include <relief/techniques/registry.h>
@@ -143,6 +144,51 @@ TEST(MapFile, CorruptAndTruncatedFilesAreErrors) {
     EXPECT_FALSE(readMapFile(path.string()).ok());
     EXPECT_FALSE(readMapFile((path.string() + ".missing")).ok());
     fs::remove(path);
+}
+
+// OpenEXR (de)compresses a file's blocks on its worker pool, sized to the thread limit
+// (exrThreads): files of many blocks are the same bytes and read back as the same floats on one
+// thread or several, and damage in a block a worker decodes is an error, not a crash.
+TEST(MapFile, SeveralThreadsWriteAndReadTheSameMaps) {
+    MapFile maps = sampleMaps();
+    TechniqueMaps t{"safety-cc", {}, {}};
+    t.arrays.push_back({"x+", 257, 203, 3, std::vector<float>(size_t(257) * 203 * 3)});
+    t.arrays.push_back({"y+", 257, 203, 1, std::vector<float>(size_t(257) * 203)});
+    uint32_t state = 12345u;
+    for (MapArray& a : t.arrays)
+        for (float& v : a.data) {
+            state = state * 1664525u + 1013904223u;  // varied floats: real work for zip
+            v = float(state >> 8) * 0x1p-12f - 2048.0f;
+        }
+    maps.techniques.push_back(t);
+    std::string bytes[2];
+    const int threads[2] = {1, 4};
+    for (int k = 0; k < 2; ++k) {
+        const ThreadLimit limit(threads[k]);
+        const fs::path path = tempPath(("threads" + std::to_string(threads[k]) + ".exr").c_str());
+        ASSERT_TRUE(writeMapFile(path.string(), maps).ok());
+        std::ifstream in(path, std::ios::binary);
+        bytes[k].assign(std::istreambuf_iterator<char>(in), {});
+        for (int readThreads : {1, 4}) {
+            const ThreadLimit readLimit(readThreads);
+            auto read = readMapFile(path.string());
+            ASSERT_TRUE(read.ok()) << read.error().message;
+            const TechniqueMaps* back = read->find("safety-cc");
+            ASSERT_NE(back, nullptr);
+            EXPECT_EQ(back->find("x+")->data, t.arrays[0].data) << readThreads << " threads";
+            EXPECT_EQ(back->find("y+")->data, t.arrays[1].data) << readThreads << " threads";
+        }
+        fs::remove(path);
+    }
+    EXPECT_EQ(bytes[0], bytes[1]);
+    // A byte in the middle of the data: a block one of the workers inflates.
+    std::string damaged = bytes[1];
+    damaged[damaged.size() / 2] = char(damaged[damaged.size() / 2] ^ 0x5a);
+    const ThreadLimit limit(4);
+    const auto read = readMapFile(
+        std::span(reinterpret_cast<const unsigned char*>(damaged.data()), damaged.size()),
+        "damaged.exr");
+    EXPECT_FALSE(read.ok());
 }
 
 TEST(MapFile, FailedWriteLeavesPreviousFileUntouched) {

@@ -1,9 +1,9 @@
 #pragma once
 // What the OpenEXR readers and writers share (internal to src/relief/io; heightfields in
 // exr_read.cpp, maps in map_file.cpp, images in image_write.cpp): input through a FileReader, so
-// that files and bytes in memory decode alike, the checks made before OpenEXR sees a header, and
-// the writers' thread count. Stream errors are thrown as OpenEXR's own exceptions, which its
-// callers already catch.
+// that files and bytes in memory decode alike, the checks made before OpenEXR sees a header and
+// the size of its worker pool (both in exr_common.cpp). Stream errors are thrown as OpenEXR's own
+// exceptions, which its callers already catch.
 #include <relief/io/read_common.h>
 
 #include <Iex.h>
@@ -17,11 +17,13 @@ namespace relief {
 // Sets OpenEXR's process-wide image and tile size limits to kMaxDimension (once).
 void limitExrSizes();
 
-// The threads an OpenEXR writer compresses with: the process's thread limit (ThreadLimit), after
-// sizing OpenEXR's own worker pool to it. Its default pool is empty, so a file's zip blocks were
-// compressed one after another: 1.1–1.3 s of a 12 s safety-cc bake at 1024² on 2 threads. The bytes
-// are the same either way (each block is compressed on its own and written in order).
-int exrWriteThreads();
+// The threads an OpenEXR reader or writer (de)compresses with: the process's thread limit
+// (ThreadLimit), after sizing OpenEXR's own worker pool to it. Its default pool is empty, so a
+// file's zip blocks were compressed one after another (1.1–1.3 s of a 12 s safety-cc bake at 1024²
+// on 2 threads) and read back one after another (half of `relief render --maps` on those maps).
+// The bytes and the floats read are the same either way: each block is compressed on its own and
+// written in order; OpenEXR reads the stream on the calling thread and rethrows a worker's error.
+int exrThreads();
 
 // OpenEXR allocates an attribute's declared size before reading its value, so a damaged size
 // field in a file of a few bytes costs gigabytes. Walks the header(s) and says what is wrong if an

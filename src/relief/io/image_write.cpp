@@ -92,7 +92,7 @@ Status writeExr(OutputSet& outputs, const std::string& path, const ImageF& image
         try {
             Imf::Header header(image.width, image.height);
             header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
-            Imf::OutputFile file(temp.c_str(), header, exrWriteThreads());
+            Imf::OutputFile file(temp.c_str(), header, exrThreads());
             Imf::FrameBuffer frame;
             frame.insert("Y", Imf::Slice(Imf::FLOAT, (char*)image.pixels.data(), sizeof(float),
                                          sizeof(float) * size_t(image.width)));

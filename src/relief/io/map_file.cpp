@@ -267,7 +267,7 @@ Status writeMapFile(const std::string& path, const MapFile& maps) {
     return writeAtomically(path, [&](const std::string& temp) -> Status {
         try {
             Imf::MultiPartOutputFile file(temp.c_str(), headers.data(), int(headers.size()), false,
-                                         exrWriteThreads());
+                                         exrThreads());
             for (size_t p = 0; p < arrays.size(); ++p) {
                 Imf::OutputPart part(file, int(p));
                 part.setFrameBuffer(frameBuffer(*arrays[p], const_cast<float*>(arrays[p]->data.data())));
@@ -398,7 +398,7 @@ Result<MapFile> readMapFile(Result<FileReader> reader) {
             return makeError(ErrorKind::InvalidInput, "{}: cannot read map file: {}", path,
                              *problem);
         ExrInputStream stream(*reader);
-        Imf::MultiPartInputFile file(stream);
+        Imf::MultiPartInputFile file(stream, exrThreads());
         return readParts(path, file);
     } catch (const std::exception& e) {
         return makeError(ErrorKind::InvalidInput, "{}: cannot read map file: {}", path, e.what());
