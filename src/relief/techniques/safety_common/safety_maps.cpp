@@ -316,13 +316,14 @@ public:
         m_nu = (xClass ? s.width() : s.height()) + extra;
         m_nv = (xClass ? s.height() : s.width()) + extra;
         const Frame f{cls};
-        m_levels.push_back({m_nu, m_nv, std::vector<Entry>(size_t(m_nu) * size_t(m_nv))});
+        m_cells = {m_nu, m_nv, std::vector<Entry>(size_t(m_nu) * size_t(m_nv))};
         // isLimiting's rounding grows with the magnitude of the doubles it adds (z0 reaches back
         // to the origin: |pa|·|a| + |pb|·|b|), so each cell's V carries its own allowance. One
         // allowance for the whole map, from its steepest cell, outgrew the eps at 1024² with a
         // steep coast and left flat sea to the exact test, cell by cell (the scan went r²).
         const double span = 2.0 * (m_nu + m_nv) + 4.0;  // repeat copies reach a period further
         m_rounding = kUlps * (1.0 + double(s.maxZ()));
+        std::vector<float> cellAmin(size_t(m_nu) * size_t(m_nv), kInfinity);  // min −pa
         parallelRanges(m_nu, 16, [&](int64_t begin, int64_t end) {
             std::array<LocalTriangle, 2> tris;
             for (int64_t u = begin; u < end; ++u)
@@ -330,8 +331,10 @@ public:
                     const int a = int(u) - extra, b = v - extra;
                     const int ci = xClass ? a : b, cj = xClass ? b : a;
                     Entry e = kEmpty;
+                    float& amin = cellAmin[size_t(u) * size_t(m_nv) + size_t(v)];
                     if (cellTriangles(s, f, ci, cj, tris))
                         for (const LocalTriangle& t : tris) {
+                            amin = std::min(amin, -roundUp(t.pa));
                             const double near = std::min({t.a[0], t.a[1], t.a[2]});
                             const double centre = std::min({t.b[0], t.b[1], t.b[2]}) + 0.5;
                             const double q = t.z0 + t.pa * near + t.pb * centre;
@@ -341,20 +344,10 @@ public:
                             e.pmax = std::max(e.pmax, roundUp(-t.pb));
                             e.pmin = std::min(e.pmin, -roundUp(t.pb));
                         }
-                    m_levels[0].data[size_t(u) * size_t(m_nv) + size_t(v)] = e;
+                    m_cells.data[size_t(u) * size_t(m_nv) + size_t(v)] = e;
                 }
         });
-        while (m_levels.size() < size_t(kLevels) &&
-               (m_levels.back().nu > 1 || m_levels.back().nv > 1)) {
-            const Level& fine = m_levels.back();
-            Level coarse{(fine.nu + 1) / 2, (fine.nv + 1) / 2, {}};
-            coarse.data.assign(size_t(coarse.nu) * size_t(coarse.nv), kEmpty);
-            for (int u = 0; u < fine.nu; ++u)
-                for (int v = 0; v < fine.nv; ++v)
-                    merge(coarse.data[size_t(u / 2) * size_t(coarse.nv) + size_t(v / 2)],
-                          fine.data[size_t(u) * size_t(fine.nv) + size_t(v)]);
-            m_levels.push_back(std::move(coarse));
-        }
+        buildSquares(cellAmin);
         buildColumns();
     }
 
@@ -366,7 +359,7 @@ public:
         const bool forward = m_cls == kXPlus || m_cls == kYPlus;
         const int u = storedAlong(f, seg.a0 + k);
         const Limits limit = limits(seg);
-        const int top = std::min(int(m_levels.size()) - 1, int(std::bit_width(unsigned(k + 4))));
+        const int top = std::min(int(m_squares.size()) - 1, int(std::bit_width(unsigned(k + 4))));
         for (int level = top; level >= 1; --level) {
             const int size = 1 << level;
             const int start = (u >> level) << level;
@@ -375,8 +368,7 @@ public:
             int b0 = seg.b0 - 2 - kEnd, b1 = seg.b0 + 1 + kEnd;
             if (!m_repeat) b0 = std::max(b0, -1), b1 = std::min(b1, cross - 1);
             if (b0 > b1) return kEnd - k + 1;
-            const int u0 = forward ? u : u - (kEnd - k), u1 = forward ? u + (kEnd - k) : u;
-            if (below(level, u0, u1, b0, b1, k, kEnd, seg.b0, limit)) return kEnd - k + 1;
+            if (below(level, u, forward, b0, b1, k, seg.b0, limit)) return kEnd - k + 1;
         }
         return 0;
     }
@@ -393,7 +385,7 @@ public:
             const int lo = std::max(v0, bv << level);
             const int hi = std::min(v1, ((bv + 1) << level) - 1);
             if (lo > hi) return false;
-            const Level& l = level == 0 ? m_levels[0] : m_columns[size_t(level)];
+            const Level& l = level == 0 ? m_cells : m_columns[size_t(level)];
             const Entry& e = l.data[size_t(u) * size_t(l.nv) + size_t(bv)];
             const double centre = columnCentre(level, bv) + offset + 0.5 - seg.b0;
             if (harmless(e, k, k, centre, centre, limit)) return false;
@@ -404,7 +396,7 @@ public:
         auto piece = [&](int v0, int v1, int offset) {
             const int width = v1 - v0 + 1;  // up to 4 cells (column 0): the cells themselves
             const int top = width <= 4 ? 0
-                                       : std::min(int(m_levels.size()) - 1,
+                                       : std::min(int(m_columns.size()) - 1,
                                                   int(std::bit_width(unsigned(width))) - 1);
             for (int bv = v0 >> top; bv <= (v1 >> top); ++bv)
                 if (visit(visit, top, bv, v0, v1, offset)) return true;
@@ -427,6 +419,20 @@ private:
         int nu, nv;
         std::vector<Entry> data;
     };
+    // A square block's planes taken at its centre (local column K, across offset D): each cell's
+    // plane reaches the test point at most v + max(−pa)·K + max(−pb·D) (K ≥ 0), v from the cells'
+    // V moved to the centre with their own slopes. Over a plane the bound is the plane; the old
+    // blocks' max V over 2^L columns and rows overstated it by the slope times the block's size,
+    // so on smooth land far from the texel (peaks6's plains) most runs went column by column.
+    struct SquareEntry {
+        float v, amax, amin, pmax, pmin;  // max v at the centre, range of −pa, range of −pb
+    };
+    struct SquareLevel {
+        int nu, nv;
+        std::vector<SquareEntry> data;
+    };
+    static constexpr SquareEntry kEmptySquare{-kInfinity, -kInfinity, kInfinity, -kInfinity,
+                                              kInfinity};
     static constexpr int kLevels = 9;    // blocks up to 256²
     static constexpr int kMaxReads = 16;  // per level tried
     static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
@@ -444,13 +450,65 @@ private:
     static double columnCentre(int level, int bv) {
         return double(bv << level) + 0.5 * double((1 << level) - 1);
     }
+    // Level 1 from the cells, each further level from the four blocks below it, as buildColumns
+    // does across, here along too: a child at local offsets (sa, sb) from its parent's centre
+    // bounds its cells there by v + max(amin·sa, amax·sa) + max(pmin·sb, pmax·sb). Local columns
+    // run against the stored ones in the backward classes, hence the sign of sa.
+    void buildSquares(const std::vector<float>& cellAmin) {
+        const double sign = m_cls == kXPlus || m_cls == kYPlus ? 1.0 : -1.0;
+        m_squares.clear();
+        m_squares.push_back({m_nu, m_nv, {}});  // level 0: the cells (m_cells)
+        while (m_squares.size() < size_t(kLevels) &&
+               (m_squares.back().nu > 1 || m_squares.back().nv > 1)) {
+            const size_t level = m_squares.size();
+            const int fineNu = m_squares.back().nu, fineNv = m_squares.back().nv;
+            SquareLevel coarse{(fineNu + 1) / 2, (fineNv + 1) / 2, {}};
+            coarse.data.assign(size_t(coarse.nu) * size_t(coarse.nv), kEmptySquare);
+            const double offset = level == 1 ? 0.5 : double(1 << (level - 2));
+            const SquareLevel* fine = level == 1 ? nullptr : &m_squares.back();
+            parallelRanges(coarse.nu, 16, [&](int64_t begin, int64_t end) {
+                for (int64_t bu = begin; bu < end; ++bu)
+                    for (int bv = 0; bv < coarse.nv; ++bv) {
+                        SquareEntry& block = coarse.data[size_t(bu) * size_t(coarse.nv) + size_t(bv)];
+                        double top = -kInfinity;
+                        for (int cu = 2 * int(bu); cu < std::min(2 * int(bu) + 2, fineNu); ++cu)
+                            for (int cv = 2 * bv; cv < std::min(2 * bv + 2, fineNv); ++cv) {
+                                const size_t at = size_t(cu) * size_t(fineNv) + size_t(cv);
+                                SquareEntry e;
+                                if (fine) {
+                                    e = fine->data[at];
+                                } else {
+                                    const Entry& c = m_cells.data[at];
+                                    e = {c.v, c.a, cellAmin[at], c.pmax, c.pmin};
+                                }
+                                if (e.v == -kInfinity) continue;
+                                const double sa = sign * (cu == 2 * bu ? -offset : offset);
+                                const double sb = cv == 2 * bv ? -offset : offset;
+                                // Floats times powers of two are exact; the sum is not.
+                                const double along = std::max(double(e.amin) * sa, double(e.amax) * sa);
+                                const double across = std::max(double(e.pmin) * sb, double(e.pmax) * sb);
+                                top = std::max(top, double(e.v) + along + across +
+                                                        kUlps * (std::abs(double(e.v)) +
+                                                                 std::abs(along) + std::abs(across)));
+                                block.amax = std::max(block.amax, e.amax);
+                                block.amin = std::min(block.amin, e.amin);
+                                block.pmax = std::max(block.pmax, e.pmax);
+                                block.pmin = std::min(block.pmin, e.pmin);
+                            }
+                        block.v = top == -kInfinity ? -kInfinity : roundUp(top);
+                    }
+            });
+            m_squares.push_back(std::move(coarse));
+        }
+    }
+
     // Level 1 from the cells, each further level from the two blocks below it, each taken at
     // its own centre: (v, p) of a child at offset s from the parent's centre bounds its cells
     // there by v + max(p_min·s, p_max·s) (one pass over the cells in all, not one per level).
     void buildColumns() {
-        m_columns.resize(m_levels.size());
-        for (size_t level = 1; level < m_levels.size(); ++level) {
-            const Level& fine = level == 1 ? m_levels[0] : m_columns[level - 1];
+        m_columns.resize(m_squares.size());
+        for (size_t level = 1; level < m_squares.size(); ++level) {
+            const Level& fine = level == 1 ? m_cells : m_columns[level - 1];
             Level& out = m_columns[level];
             out.nu = m_nu;
             out.nv = ((m_nv - 1) >> level) + 1;
@@ -510,7 +568,7 @@ private:
     }
     // Whether the planes of the entry's cells, for cells in columns k .. kEnd with centre
     // offsets δ in [d0, d1], stay at or below the limits at the three points.
-    static bool harmless(const Entry& e, int k, int kEnd, double d0, double d1,
+    static bool harmless(const Entry& e, double k, double kEnd, double d0, double d1,
                          const Limits& limit) {
         if (e.v == -kInfinity) return true;
         const double base = double(e.v) + double(e.a) * double(e.a >= 0.0f ? kEnd : k);
@@ -530,10 +588,11 @@ private:
         const int along = m_cls < kYPlus ? ci : cj;
         return m_repeat ? wrap(along, m_nu) : along + 1;
     }
-    // Whether every block of `level` covering stored columns [u0, u1] (local columns k .. kEnd)
-    // and cells [b0, b1] across (wrapping in repeat mode) is at or below `limit`, each block
-    // bounded with its own offsets; false too when that takes more than kMaxReads reads.
-    bool below(int level, int u0, int u1, int b0, int b1, int k, int kEnd, int texelB,
+    // Whether the block of `level` holding stored column u (local column k; the run's columns
+    // all lie in it) and the blocks across it covering cells [b0, b1] (wrapping in repeat mode)
+    // are at or below `limit`, each taken at its own centre; false too when that takes more than
+    // kMaxReads reads or a block's centre lies behind the texel.
+    bool below(int level, int u, bool forward, int b0, int b1, int k, int texelB,
                const Limits& limit) const {
         int parts[2][3];  // stored v range and the offset to local b
         int count = 1;
@@ -549,31 +608,42 @@ private:
         } else {
             parts[0][0] = b0 + 1, parts[0][1] = b1 + 1, parts[0][2] = -1;
         }
-        const Level& l = m_levels[size_t(level)];
-        const int bu0 = u0 >> level, bu1 = u1 >> level;
+        const SquareLevel& l = m_squares[size_t(level)];
+        const int bu = u >> level;
+        const double half = 0.5 * double((1 << level) - 1);  // a block's centre from its first cell
+        const double centreU = double(bu << level) + half;
+        const double K = double(k) + (forward ? centreU - u : u - centreU);
+        if (K < 0.0) return false;
         int reads = 0;
         for (int p = 0; p < count; ++p) reads += (parts[p][1] >> level) - (parts[p][0] >> level) + 1;
-        if (reads * (bu1 - bu0 + 1) > kMaxReads) return false;
+        if (reads > kMaxReads) return false;
         for (int p = 0; p < count; ++p)
             for (int bv = parts[p][0] >> level; bv <= (parts[p][1] >> level); ++bv) {
-                // A wrapped whole period: a stored cell stands for several offsets.
-                const int lo = std::max(parts[p][0], bv << level);
-                const int hi = std::min(parts[p][1], ((bv + 1) << level) - 1);
-                const double d0 = whole ? b0 + 0.5 - texelB : lo + parts[p][2] + 0.5 - texelB;
-                const double d1 = whole ? b1 + 0.5 - texelB : hi + parts[p][2] + 0.5 - texelB;
-                for (int bu = bu0; bu <= bu1; ++bu)
-                    if (!harmless(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], k, kEnd, d0,
-                                  d1, limit))
-                        return false;
+                // A wrapped whole period: a stored block stands for several offsets, whose
+                // centres lie within half a block of the range's cells.
+                const double centre = double(bv << level) + half + parts[p][2] + 0.5 - texelB;
+                const double d0 = whole ? b0 + 0.5 - texelB - half : centre;
+                const double d1 = whole ? b1 + 0.5 - texelB + half : centre;
+                if (!harmlessSquare(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], K, d0, d1,
+                                    limit))
+                    return false;
             }
         return true;
+    }
+    // harmless for a square block taken at its centre: local column K ≥ 0, centre offsets across
+    // in [d0, d1].
+    static bool harmlessSquare(const SquareEntry& e, double K, double d0, double d1,
+                               const Limits& limit) {
+        if (e.v == -kInfinity) return true;
+        return harmless(Entry{e.v, e.amax, e.pmax, e.pmin}, K, K, d0, d1, limit);
     }
 
     int m_cls;
     bool m_repeat;
     int m_nu, m_nv;
     double m_rounding = 0.0;
-    std::vector<Level> m_levels;   // square blocks (skipColumns; level 0: the cells)
+    Level m_cells;
+    std::vector<SquareLevel> m_squares;  // square blocks (skipColumns), levels 1 and up
     std::vector<Level> m_columns;  // column blocks (anyCell), levels 1 and up
 };
 
