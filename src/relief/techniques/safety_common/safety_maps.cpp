@@ -97,6 +97,13 @@ int crossCount(const Surface& s, int cls) { return cls < kYPlus ? s.height() : s
 
 int allowedDirections(double pa, double pb, double tanPhi, double (&lo)[2], double (&hi)[2]) {
     constexpr double kQuarter = std::numbers::pi / 4.0;
+    // Without a restriction (φ_max = 90°: tanPhi = ∞) or on a gentle plane every direction is
+    // allowed: |pa| + |pb| bounds the gradient's length, and the margin hypot's error (< 1 ulp),
+    // so the answer is the one below without its hypot (3 % of a safety bake's time).
+    if (tanPhi >= (std::abs(pa) + std::abs(pb)) * (1.0 + 1e-15)) {
+        lo[0] = -1.0, hi[0] = 1.0;
+        return 1;
+    }
     const double g = std::hypot(pa, pb);
     if (!(tanPhi < g)) {
         lo[0] = -1.0, hi[0] = 1.0;
