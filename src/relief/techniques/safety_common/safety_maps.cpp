@@ -1178,7 +1178,11 @@ ConeTexel coneTexel(const Surface& s, const WindowMax& windows, const SampleMax*
                 x = skipTo;
                 continue;
             }
-            nextTry = x + std::max(1, (x - r) / 2);
+            // The next try 2·(x − r) later (distances from r grow threefold): a failed try
+            // costs three bounds of up to 16 reads, and on rising flanks they fail in a row.
+            // Against (x − r)/2: safety-cc 1024² on 2 threads fbm 0.93×, peaks6 0.98×, the sea
+            // crop 0.96× (paired runs).
+            nextTry = x + 2 * (x - r);
         }
         if (x >= runFrom + WindowMax::kRun) {  // the next run of windows, read together
             runFrom = x;
