@@ -434,17 +434,17 @@ private:
     // so far from the texel on smooth land most runs went column by column (peaks6 1024²: 30 M
     // columns of texel-classes at distance 64 or more, half the block tests).
     struct SquareEntry {
-        float v, amax, amin, pmax, pmin;  // max v at the centre, range of −pa, range of −pb
+        Entry planes;  // max v at the centre, max −pa, range of −pb
+        float amin;    // min −pa (a child's offset along may be negative)
     };
     struct SquareLevel {
         int nu, nv;
         std::vector<SquareEntry> data;
     };
-    static constexpr SquareEntry kEmptySquare{-kInfinity, -kInfinity, kInfinity, -kInfinity,
-                                              kInfinity};
     static constexpr int kLevels = 9;    // blocks up to 256²
     static constexpr int kMaxReads = 16;  // per level tried
     static constexpr Entry kEmpty{-kInfinity, -kInfinity, -kInfinity, kInfinity};
+    static constexpr SquareEntry kEmptySquare{kEmpty, kInfinity};
     static constexpr double kUlps = 8e-15;  // relative rounding allowance of a few operations
 
     // anyCell's blocks: 1 × 2^L cells of one column (level 0: the cells, read from the square
@@ -461,7 +461,7 @@ private:
     }
     // Level 1 from the cells, each further level from the four blocks below it, as buildColumns
     // does across, here along too: a child at local offsets (sa, sb) from its parent's centre
-    // bounds its cells there by v + max(amin·sa, amax·sa) + max(pmin·sb, pmax·sb). Local columns
+    // bounds its cells there by v + max(amin·sa, a·sa) + max(pmin·sb, pmax·sb). Local columns
     // run against the stored ones in the backward classes, hence the sign of sa.
     void buildSquares(const std::vector<float>& cellAmin) {
         const double sign = m_cls == kXPlus || m_cls == kYPlus ? 1.0 : -1.0;
@@ -478,33 +478,32 @@ private:
             parallelRanges(coarse.nu, 16, [&](int64_t begin, int64_t end) {
                 for (int64_t bu = begin; bu < end; ++bu)
                     for (int bv = 0; bv < coarse.nv; ++bv) {
-                        SquareEntry& block = coarse.data[size_t(bu) * size_t(coarse.nv) + size_t(bv)];
+                        SquareEntry& block =
+                            coarse.data[size_t(bu) * size_t(coarse.nv) + size_t(bv)];
                         double top = -kInfinity;
                         for (int cu = 2 * int(bu); cu < std::min(2 * int(bu) + 2, fineNu); ++cu)
                             for (int cv = 2 * bv; cv < std::min(2 * bv + 2, fineNv); ++cv) {
                                 const size_t at = size_t(cu) * size_t(fineNv) + size_t(cv);
-                                SquareEntry e;
-                                if (fine) {
-                                    e = fine->data[at];
-                                } else {
-                                    const Entry& c = m_cells.data[at];
-                                    e = {c.v, c.a, cellAmin[at], c.pmax, c.pmin};
-                                }
-                                if (e.v == -kInfinity) continue;
+                                const SquareEntry e = fine ? fine->data[at]
+                                                           : SquareEntry{m_cells.data[at],
+                                                                         cellAmin[at]};
+                                const Entry& p = e.planes;
+                                if (p.v == -kInfinity) continue;
                                 const double sa = sign * (cu == 2 * bu ? -offset : offset);
                                 const double sb = cv == 2 * bv ? -offset : offset;
                                 // Floats times powers of two are exact; the sum is not.
-                                const double along = std::max(double(e.amin) * sa, double(e.amax) * sa);
-                                const double across = std::max(double(e.pmin) * sb, double(e.pmax) * sb);
-                                top = std::max(top, double(e.v) + along + across +
-                                                        kUlps * (std::abs(double(e.v)) +
-                                                                 std::abs(along) + std::abs(across)));
-                                block.amax = std::max(block.amax, e.amax);
+                                const double along =
+                                    std::max(double(e.amin) * sa, double(p.a) * sa);
+                                const double across =
+                                    std::max(double(p.pmin) * sb, double(p.pmax) * sb);
+                                top = std::max(top, double(p.v) + along + across +
+                                                        kUlps * (std::abs(double(p.v)) +
+                                                                 std::abs(along) +
+                                                                 std::abs(across)));
+                                merge(block.planes, p);
                                 block.amin = std::min(block.amin, e.amin);
-                                block.pmax = std::max(block.pmax, e.pmax);
-                                block.pmin = std::min(block.pmin, e.pmin);
                             }
-                        block.v = top == -kInfinity ? -kInfinity : roundUp(top);
+                        block.planes.v = top == -kInfinity ? -kInfinity : roundUp(top);
                     }
             });
             m_squares.push_back(std::move(coarse));
@@ -633,18 +632,12 @@ private:
                 const double centre = double(bv << level) + half + parts[p][2] + 0.5 - texelB;
                 const double d0 = whole ? b0 + 0.5 - texelB - half : centre;
                 const double d1 = whole ? b1 + 0.5 - texelB + half : centre;
-                if (!harmlessSquare(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)], K, d0, d1,
-                                    limit))
+                // K ≥ 0: max(−pa)·K bounds −pa·K over the block's range of −pa.
+                if (!harmless(l.data[size_t(bu) * size_t(l.nv) + size_t(bv)].planes, K, K, d0, d1,
+                              limit))
                     return false;
             }
         return true;
-    }
-    // harmless for a square block taken at its centre: local column K ≥ 0, centre offsets across
-    // in [d0, d1].
-    static bool harmlessSquare(const SquareEntry& e, double K, double d0, double d1,
-                               const Limits& limit) {
-        if (e.v == -kInfinity) return true;
-        return harmless(Entry{e.v, e.amax, e.pmax, e.pmin}, K, K, d0, d1, limit);
     }
 
     int m_cls;
