@@ -11,6 +11,8 @@
 //   a row A~B: row A against row B instead of a row's packets against its scalar path (e.g.
 //   quadtree:traversal=1~quadtree); differences then count hit, t or position only
 //   --tiles: the rays in the Embree packets' order (4×4 pixel tiles, bench::packetOrder)
+//   --elevations: the views' camera elevations in degrees, comma-separated (default
+//   15.3,40.2,65.1)
 //   --shadows: the view's shadow rays instead (as the bench's: from a light at 30° elevation
 //   toward the primary hits that face it, in that order)
 //   SOURCE: gen:NAME:WxH[:seed] or FILE[@crop=X,Y,W,H] (as `relief render --heightfield`)
@@ -60,6 +62,7 @@ int main(int argc, char** argv) {
     bool tiles = false;  // rays in the Embree packets' order (bench::packetOrder), not by rows
     bool shadows = false;  // the views' shadow rays, not their primary rays
     std::vector<std::string> sources, rows = {"quadtree", "maxmip", "exact"};
+    std::vector<float> elevations = {15.3f, 40.2f, 65.1f};
     for (int k = 1; k < argc; ++k) {
         const std::string a = argv[k];
         if (a == "--threads" && k + 1 < argc) threads = std::atoi(argv[++k]);
@@ -76,6 +79,15 @@ int main(int argc, char** argv) {
                 list = comma == std::string::npos ? "" : list.substr(comma + 1);
             }
         }
+        else if (a == "--elevations" && k + 1 < argc) {
+            elevations.clear();
+            for (const char* c = argv[++k]; *c != '\0';) {
+                char* end = nullptr;
+                elevations.push_back(std::strtof(c, &end));
+                if (end == c) break;
+                c = *end == ',' ? end + 1 : end;
+            }
+        }
         else if (a == "--isa" && k + 1 < argc) {
             const std::string isa = argv[++k];
             hwy::SetSupportedTargetsForTest(isa == "avx3"   ? HWY_AVX3
@@ -88,7 +100,8 @@ int main(int argc, char** argv) {
     if (sources.empty()) {
         std::fprintf(stderr, "usage: %s [--threads N] [--reps R] [--size WxH] "
                              "[--edge clamp|repeat] [--isa avx3|avx2|sse4] "
-                             "[--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles] [--shadows] SOURCE...\n", argv[0]);
+                             "[--rows quadtree,maxmip,exact,cone,safety-cc] [--tiles] [--shadows] "
+                             "[--elevations E,...] SOURCE...\n", argv[0]);
         return 2;
     }
     if ((tiles || shadows) && (width % 16 != 0 || height % 16 != 0)) {
@@ -148,7 +161,7 @@ int main(int argc, char** argv) {
         }
         const Tracer& packets = **tracer;
         const Tracer& scalar = pair ? *peer : packetRow->scalarPath();
-        for (const float elevation : {15.3f, 40.2f, 65.1f}) {
+        for (const float elevation : elevations) {
             OrbitView view;
             view.elevationDeg = elevation;
             view.distance = 1.0f;

@@ -357,55 +357,60 @@ struct Walk {
 
         // advance<kAscent>, in the lanes that neither descend nor hit
         const MI advances = hn::AndNot(hn::Or(hn::Or(descends, leafHits), frozen), act);
-        const MI pastEnd = hn::RebindMask(di, hn::Ge(et, tExit));
-        const MI alongX = hn::RebindMask(di, hn::Le(exitX, exitY));
-        const VI size = (oneI << level);
-        const VI toX = hn::IfThenElse(hn::Gt(stepX, zeroI), hn::Min(hn::Add(loX, size), cellsX),
-                                      hn::Sub(loX, oneI));
-        const VI toY = hn::IfThenElse(hn::Gt(stepY, zeroI), hn::Min(hn::Add(loY, size), cellsY),
-                                      hn::Sub(loY, oneI));
-        const VI from = hn::IfThenElse(alongX, px, py);
-        const VI to = hn::IfThenElse(alongX, toX, toY);
-        const VI cells = hn::IfThenElse(alongX, cellsX, cellsY);
-        const VI step = hn::IfThenElse(alongX, stepX, stepY);
-        const MI inside = hn::AndNot(hn::Lt(to, zeroI), hn::Lt(to, cells));
-        // Repeat: a step across the map's edge wraps to the other side and moves the base.
-        MI seam = none;
-        VI toWrapped = to, baseXA = baseX, baseYA = baseY;
-        if constexpr (kRepeat) {
-            seam = hn::Not(inside);
-            const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
-            toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
-            const VI baseShift = hn::IfThenElseZero(seam, shift);
-            baseXA = hn::Add(baseX, hn::IfThenElseZero(alongX, baseShift));
-            baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
+        // (skipped when no lane advances: a quarter of a primary view's iterations only descend)
+        VI levelA = level, pxA = px, pyA = py, baseXA = baseX, baseYA = baseY;  // levelAfterStep
+        VF exitXA = exitX, exitYA = exitY;
+        MI leaves = none;
+        if (!hn::AllFalse(di, advances)) {
+            const MI pastEnd = hn::RebindMask(di, hn::Ge(et, tExit));
+            const MI alongX = hn::RebindMask(di, hn::Le(exitX, exitY));
+            const VI size = (oneI << level);
+            const VI toX = hn::IfThenElse(hn::Gt(stepX, zeroI), hn::Min(hn::Add(loX, size), cellsX),
+                                          hn::Sub(loX, oneI));
+            const VI toY = hn::IfThenElse(hn::Gt(stepY, zeroI), hn::Min(hn::Add(loY, size), cellsY),
+                                          hn::Sub(loY, oneI));
+            const VI from = hn::IfThenElse(alongX, px, py);
+            const VI to = hn::IfThenElse(alongX, toX, toY);
+            const VI cells = hn::IfThenElse(alongX, cellsX, cellsY);
+            const VI step = hn::IfThenElse(alongX, stepX, stepY);
+            const MI inside = hn::AndNot(hn::Lt(to, zeroI), hn::Lt(to, cells));
+            // Repeat: a step across the map's edge wraps to the other side and moves the base.
+            MI seam = none;
+            VI toWrapped = to;
+            if constexpr (kRepeat) {
+                seam = hn::Not(inside);
+                const VI shift = hn::IfThenElse(hn::Gt(step, zeroI), cells, hn::Neg(cells));  // step·cells
+                toWrapped = hn::IfThenElse(seam, hn::Sub(to, shift), to);
+                const VI baseShift = hn::IfThenElseZero(seam, shift);
+                baseXA = hn::Add(baseX, hn::IfThenElseZero(alongX, baseShift));
+                baseYA = hn::Add(baseY, hn::IfThenElseZero(hn::Not(alongX), baseShift));
+            }
+            const VI topLevel = hn::Set(di, layout.topLevel());
+            if constexpr (kAscent == Ascent::Parent) {
+                const VI levelUp = hn::Add(level, oneI);
+                MI newParent = hn::Ne((from >> levelUp), (to >> levelUp));
+                if constexpr (kRepeat) newParent = hn::Or(seam, newParent);
+                levelA = hn::IfThenElse(newParent, hn::Min(levelUp, topLevel), level);
+            } else {
+                // bit_width(from ^ to) - 1: the exponent of the float (exact: indices < 2^23, and
+                // from ^ to ≥ 1 in every lane that stays)
+                const VI bits = hn::BitCast(di, hn::ConvertTo(df, hn::Xor(from, to)));
+                levelA = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
+                if constexpr (kRepeat) levelA = hn::IfThenElse(seam, topLevel, levelA);
+            }
+            const MI ascended = hn::Ne(levelA, level);
+            pxA = hn::IfThenElse(alongX, toWrapped, px);
+            pyA = hn::IfThenElse(alongX, py, toWrapped);
+            exitXA = hn::IfThenElse(
+                hn::RebindMask(df, hn::Or(alongX, ascended)),
+                sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
+                exitX);
+            exitYA = hn::IfThenElse(
+                hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
+                sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
+                exitY);
+            leaves = hn::And(advances, kRepeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
         }
-        const VI topLevel = hn::Set(di, layout.topLevel());
-        VI levelA;  // levelAfterStep
-        if constexpr (kAscent == Ascent::Parent) {
-            const VI levelUp = hn::Add(level, oneI);
-            MI newParent = hn::Ne((from >> levelUp), (to >> levelUp));
-            if constexpr (kRepeat) newParent = hn::Or(seam, newParent);
-            levelA = hn::IfThenElse(newParent, hn::Min(levelUp, topLevel), level);
-        } else {
-            // bit_width(from ^ to) - 1: the exponent of the float (exact: indices < 2^23, and
-            // from ^ to ≥ 1 in every lane that stays)
-            const VI bits = hn::BitCast(di, hn::ConvertTo(df, hn::Xor(from, to)));
-            levelA = hn::Sub(hn::ShiftRight<23>(bits), hn::Set(di, 127));
-            if constexpr (kRepeat) levelA = hn::IfThenElse(seam, topLevel, levelA);
-        }
-        const MI ascended = hn::Ne(levelA, level);
-        const VI pxA = hn::IfThenElse(alongX, toWrapped, px);
-        const VI pyA = hn::IfThenElse(alongX, py, toWrapped);
-        const VF exitXA = hn::IfThenElse(
-            hn::RebindMask(df, hn::Or(alongX, ascended)),
-            sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
-            exitX);
-        const VF exitYA = hn::IfThenElse(
-            hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
-            sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
-            exitY);
-        const MI leaves = hn::And(advances, kRepeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
 
         // The new state: descended, advanced, or (hit, left, parked) as it was.
         const MF descendsF = hn::RebindMask(df, descends), advancesF = hn::RebindMask(df, advances);
