@@ -37,8 +37,10 @@ struct Packet {
     alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
     alignas(64) float tEnter[kLanes];
     alignas(64) float invX[kLanes], invY[kLanes], invZ[kLanes], tExit[kLanes], slack[kLanes];
-    alignas(64) int32_t stepX[kLanes], stepY[kLanes], exitMaskX[kLanes], exitMaskY[kLanes];
-    alignas(64) int32_t active[kLanes], steps[kLanes], fetches[kLanes];
+    alignas(64) int32_t stepX[kLanes], stepY[kLanes];
+    // leafFetches: the cell tests' corners, counted in memory (a ray's fetches are its steps,
+    // one node each, plus these), so that the loop carries one counter, not two.
+    alignas(64) int32_t active[kLanes], steps[kLanes], leafFetches[kLanes];
     alignas(64) int32_t leafHit[kLanes];
     alignas(64) float leafT[kLanes];
     size_t index[kLanes];
@@ -67,7 +69,7 @@ struct Walk {
         alignas(64) float exitX[kChunk], exitY[kChunk], invX[kChunk], invY[kChunk], invZ[kChunk],
             slack[kChunk];
         alignas(64) int32_t level[kChunk], px[kChunk], py[kChunk], baseX[kChunk], baseY[kChunk],
-            stepX[kChunk], stepY[kChunk], exitMaskX[kChunk], exitMaskY[kChunk];
+            stepX[kChunk], stepY[kChunk];
         size_t chunk = ~size_t(0);  // the chunk's first ray
     } starts{};
 
@@ -100,8 +102,6 @@ struct Walk {
                     hn::IfThenElseZero(hn::RebindMask(di, hn::Lt(d, zero)), minusOne));
             };
             const VI stepX = sign(dx), stepY = sign(dy);
-            const VI exitMaskX = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(dx, zero)), minusOne);
-            const VI exitMaskY = hn::IfThenElseZero(hn::RebindMask(di, hn::Gt(dy, zero)), minusOne);
             const VF extent = hn::Add(
                 hn::Add(hn::Add(hn::Add(hn::Abs(ox), hn::Abs(oy)), hn::Abs(oz)), tExit), depth);
             const VF slack = hn::Mul(hn::Set(df, kWalkSlack), extent);
@@ -126,9 +126,9 @@ struct Walk {
                 hn::ShiftRight<23>(hn::BitCast(di, hn::ConvertTo(df, differ))), hn::Set(di, 126));
             const VI level = hn::Min(hn::IfThenElseZero(hn::Ne(differ, zeroI), exponent),
                                      hn::Set(di, layout.topLevel()));
-            hn::Store(sideExit(px, level, cellsX, firstCell, stepX, exitMaskX, edge, ox, invX), df,
+            hn::Store(sideExit(px, level, cellsX, firstCell, stepX, edge, ox, invX), df,
                       starts.exitX + k);
-            hn::Store(sideExit(py, level, cellsY, firstCell, stepY, exitMaskY, edge, oy, invY), df,
+            hn::Store(sideExit(py, level, cellsY, firstCell, stepY, edge, oy, invY), df,
                       starts.exitY + k);
             hn::Store(invX, df, starts.invX + k);
             hn::Store(invY, df, starts.invY + k);
@@ -141,8 +141,6 @@ struct Walk {
             hn::Store(firstCell, di, starts.baseY + k);
             hn::Store(stepX, di, starts.stepX + k);
             hn::Store(stepY, di, starts.stepY + k);
-            hn::Store(exitMaskX, di, starts.exitMaskX + k);
-            hn::Store(exitMaskY, di, starts.exitMaskY + k);
         }
         for (size_t k = whole; k < count; ++k) {  // lane by lane
             const RayInterval span{feed.chunkEnter()[k], feed.chunkExit()[k]};
@@ -162,8 +160,6 @@ struct Walk {
             starts.baseY[k] = c.baseY;
             starts.stepX[k] = r.stepX;
             starts.stepY[k] = r.stepY;
-            starts.exitMaskX[k] = r.exitMaskX;
-            starts.exitMaskY[k] = r.exitMaskY;
         }
         starts.chunk = begin;
     }
@@ -198,11 +194,9 @@ struct Walk {
         p.slack[lane] = starts.slack[k];
         p.stepX[lane] = starts.stepX[k];
         p.stepY[lane] = starts.stepY[k];
-        p.exitMaskX[lane] = starts.exitMaskX[k];
-        p.exitMaskY[lane] = starts.exitMaskY[k];
         p.active[lane] = -1;
         p.steps[lane] = 0;
-        p.fetches[lane] = 0;
+        p.leafFetches[lane] = 0;
         p.index[lane] = i;
     }
 
@@ -222,8 +216,10 @@ struct Walk {
         MI act = hn::MaskFromVec(zeroI);
         VF t = inf, exitX = inf, exitY = inf, ox = inf, oy = inf, oz = inf, dz = inf, invX = inf,
            invY = inf, invZ = inf, tExit = inf, slack = inf;
-        VI level = zeroI, px = zeroI, py = zeroI, baseX = zeroI, baseY = zeroI, stepX = zeroI,
-           stepY = zeroI, exitMaskX = zeroI, exitMaskY = zeroI, steps = zeroI, fetches = zeroI;
+        // Clamp mode: every lane's bases are the first cell (a constant, not state).
+        const VI firstCell = hn::Set(di, layout.firstCell);
+        VI level = zeroI, px = zeroI, py = zeroI, baseX = firstCell, baseY = firstCell,
+           stepX = zeroI, stepY = zeroI, steps = zeroI;
         const auto reload = [&] {
             act = hn::MaskFromVec(hn::Load(di, p.active));
             t = hn::Load(df, p.t);
@@ -232,8 +228,10 @@ struct Walk {
             level = hn::Load(di, p.level);
             px = hn::Load(di, p.px);
             py = hn::Load(di, p.py);
-            baseX = hn::Load(di, p.baseX);
-            baseY = hn::Load(di, p.baseY);
+            if constexpr (kRepeat) {
+                baseX = hn::Load(di, p.baseX);
+                baseY = hn::Load(di, p.baseY);
+            }
             ox = hn::Load(df, p.ox);
             oy = hn::Load(df, p.oy);
             oz = hn::Load(df, p.oz);
@@ -245,10 +243,7 @@ struct Walk {
             slack = hn::Load(df, p.slack);
             stepX = hn::Load(di, p.stepX);
             stepY = hn::Load(di, p.stepY);
-            exitMaskX = hn::Load(di, p.exitMaskX);
-            exitMaskY = hn::Load(di, p.exitMaskY);
             steps = hn::Load(di, p.steps);
-            fetches = hn::Load(di, p.fetches);
         };
         // What changes during the walk (the rest only in `fill`).
         const auto spill = [&] {
@@ -263,7 +258,6 @@ struct Walk {
                 hn::Store(baseY, di, p.baseY);
             }
             hn::Store(steps, di, p.steps);
-            hn::Store(fetches, di, p.fetches);
         };
         reload();
         if (hn::AllFalse(di, act)) return;  // the batch's rays all miss the box
@@ -303,48 +297,20 @@ struct Walk {
         const MI frozen = testCells ? none : atLeafBelow;
         const MI counted = hn::AndNot(frozen, act);
         steps = hn::Add(steps, hn::IfThenElseZero(counted, oneI));
-        fetches = hn::Add(fetches, hn::IfThenElseZero(counted, oneI));
 
-        // Level 0: the reference's cell test (leafHit) across lanes, over the ray's whole span in
-        // the cell (its ends as the reference computes them).
+        // Level 0: the reference's cell test across the lanes `leaf` (out of line, from the
+        // lanes' state in memory).
         MI leafHits = none;
         if (!hn::AllFalse(di, leaf)) {
-            fetches = hn::Add(fetches, hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches)));
-            const VI ci = hn::Add(baseX, px), cj = hn::Add(baseY, py);
-            VF ta = hn::Load(df, p.tEnter), tb = tExit;
-            // std::max(ta, boundaryT(near side)), std::min(tb, boundaryT(far side)), per axis
-            const auto clipAxis = [&](VI step, VI cell, VF origin, VF inverse) {
-                const MI up = hn::Gt(step, zeroI);
-                const VI next = hn::Add(cell, oneI);
-                const VF nearT = boundaryT(hn::IfThenElse(up, cell, next), edge, origin, inverse);
-                const VF farT = boundaryT(hn::IfThenElse(up, next, cell), edge, origin, inverse);
-                const MF moves = hn::RebindMask(df, hn::Not(hn::Eq(step, zeroI)));
-                ta = hn::IfThenElse(hn::And(moves, hn::Lt(ta, nearT)), nearT, ta);
-                tb = hn::IfThenElse(hn::And(moves, hn::Lt(farT, tb)), farT, tb);
-            };
-            clipAxis(stepX, ci, ox, invX);
-            clipAxis(stepY, cj, oy, invY);
-            tb = hn::IfThenElse(hn::Lt(ta, tb), tb, ta);
-            // The cell's corners in the padded heights: clamp, cells -1..W-1 (column ci + 1);
-            // repeat, pyramid index px is the wrapped cell (column px + 1).
-            const VI column = hn::Add(kRepeat ? px : ci, oneI);
-            const VI row = hn::Add(kRepeat ? py : cj, oneI);
-            const VI heightStride = hn::Set(di, s.width() + 2);
-            const cell_test::LaneRays<VF> r{ox, oy, oz, hn::Load(df, p.dx),
-                                            hn::Load(df, p.dy), dz};
-            const auto segment = cell_test::MeasureSegment(
-                df, heights, hn::Add(hn::Mul(row, heightStride), column), heightStride,
-                hn::ConvertTo(df, ci), hn::ConvertTo(df, cj), r, ta, tb);
-            // The roots (in double: four divisions) only where a lane may meet S; a lane that
-            // certainly misses would get t = ∞ from them.
-            const MI mayMeet =
-                hn::AndNot(hn::RebindMask(di, cell_test::SegmentMisses(df, segment)), leaf);
-            if (!hn::AllFalse(di, mayMeet)) {
-                const VF th = cell_test::FirstHitOnSegment(df, segment, r, ta, tb);
-                leafHits = hn::And(mayMeet,
-                                   hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
-                hn::Store(th, df, p.leafT);
+            hn::Store(px, di, p.px);
+            hn::Store(py, di, p.py);
+            if constexpr (kRepeat) {
+                hn::Store(baseX, di, p.baseX);
+                hn::Store(baseY, di, p.baseY);
             }
+            hn::Store(hn::VecFromMask(di, leaf), di, p.leafHit);
+            leafCellTests<kRepeat>(p);
+            leafHits = hn::MaskFromVec(hn::Load(di, p.leafHit));
         }
 
         // descend (settleHalf per axis; no texel ties: the pyramid is over cells)
@@ -403,11 +369,11 @@ struct Walk {
             pyA = hn::IfThenElse(alongX, py, toWrapped);
             exitXA = hn::IfThenElse(
                 hn::RebindMask(df, hn::Or(alongX, ascended)),
-                sideExit(pxA, levelA, cellsX, baseXA, stepX, exitMaskX, edge, ox, invX),
+                sideExit(pxA, levelA, cellsX, baseXA, stepX, edge, ox, invX),
                 exitX);
             exitYA = hn::IfThenElse(
                 hn::RebindMask(df, hn::Or(hn::Not(alongX), ascended)),
-                sideExit(pyA, levelA, cellsY, baseYA, stepY, exitMaskY, edge, oy, invY),
+                sideExit(pyA, levelA, cellsY, baseYA, stepY, edge, oy, invY),
                 exitY);
             leaves = hn::And(advances, kRepeat ? pastEnd : hn::Or(pastEnd, hn::Not(inside)));
         }
@@ -438,17 +404,78 @@ struct Walk {
         ForEachLane(done, [&](size_t k) {
             const size_t i = p.index[k];
             const Ray& ray = rays[i];
+            const int fetches = p.steps[k] + p.leafFetches[k];
             if (p.leafHit[k])
-                hits[i] = makeHit(ray, p.leafT[k], p.steps[k], p.fetches[k]);
+                hits[i] = makeHit(ray, p.leafT[k], p.steps[k], fetches);
             else
                 hits[i] = leavesThroughFloor(p.oz[k], p.dz[k], p.tExit[k], s.depth())
-                              ? makeHit(ray, p.tExit[k], p.steps[k], p.fetches[k])
-                              : makeMiss(p.steps[k], p.fetches[k]);
+                              ? makeHit(ray, p.tExit[k], p.steps[k], fetches)
+                              : makeMiss(p.steps[k], fetches);
             fill(p, k);
         });
         if (hn::AllFalse(di, hn::MaskFromVec(hn::Load(di, p.active)))) return;
         reload();
         }
+    }
+
+    // The reference's cell test (leafHit) in the lanes p.leafHit, over the ray's whole span in
+    // the cell (its ends as the reference computes them): p.leafHit becomes the lanes that hit,
+    // p.leafT their t. Out of line: the test's two dozen vectors would otherwise crowd the
+    // registers of the walk's loop, which takes it in a fifth of its iterations.
+    template <bool kRepeat>
+    HWY_NOINLINE void leafCellTests(Packet& p) const {
+        const DF df;
+        const DI di;
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
+        const VF inf = hn::Set(df, kInfinity), edge = hn::Set(df, layout.edge);
+        const MI leaf = hn::MaskFromVec(hn::Load(di, p.leafHit));
+        hn::Store(hn::Add(hn::Load(di, p.leafFetches),
+                          hn::IfThenElseZero(leaf, hn::Set(di, kLeafFetches))),
+                  di, p.leafFetches);
+        const VI px = hn::Load(di, p.px), py = hn::Load(di, p.py);
+        const VI baseX = kRepeat ? hn::Load(di, p.baseX) : hn::Set(di, layout.firstCell);
+        const VI baseY = kRepeat ? hn::Load(di, p.baseY) : hn::Set(di, layout.firstCell);
+        const VF ox = hn::Load(df, p.ox), oy = hn::Load(df, p.oy);
+        const VI ci = hn::Add(baseX, px), cj = hn::Add(baseY, py);
+        VF ta = hn::Load(df, p.tEnter), tb = hn::Load(df, p.tExit);
+        // std::max(ta, boundaryT(near side)), std::min(tb, boundaryT(far side)), per axis
+        const auto clipAxis = [&](VI step, VI cell, VF origin, VF inverse) {
+            const MI up = hn::Gt(step, zeroI);
+            const VI next = hn::Add(cell, oneI);
+            const VF nearT = boundaryT(hn::IfThenElse(up, cell, next), edge, origin, inverse);
+            const VF farT = boundaryT(hn::IfThenElse(up, next, cell), edge, origin, inverse);
+            const MF moves = hn::RebindMask(df, hn::Not(hn::Eq(step, zeroI)));
+            ta = hn::IfThenElse(hn::And(moves, hn::Lt(ta, nearT)), nearT, ta);
+            tb = hn::IfThenElse(hn::And(moves, hn::Lt(farT, tb)), farT, tb);
+        };
+        clipAxis(hn::Load(di, p.stepX), ci, ox, hn::Load(df, p.invX));
+        clipAxis(hn::Load(di, p.stepY), cj, oy, hn::Load(df, p.invY));
+        tb = hn::IfThenElse(hn::Lt(ta, tb), tb, ta);
+        // The cell's corners in the padded heights: clamp, cells -1..W-1 (column ci + 1);
+        // repeat, pyramid index px is the wrapped cell (column px + 1).
+        const VI column = hn::Add(kRepeat ? px : ci, oneI);
+        const VI row = hn::Add(kRepeat ? py : cj, oneI);
+        const VI heightStride = hn::Set(di, s.width() + 2);
+        const cell_test::LaneRays<VF> r{ox,
+                                        oy,
+                                        hn::Load(df, p.oz),
+                                        hn::Load(df, p.dx),
+                                        hn::Load(df, p.dy),
+                                        hn::Load(df, p.dz)};
+        const auto segment = cell_test::MeasureSegment(
+            df, heights, hn::Add(hn::Mul(row, heightStride), column), heightStride,
+            hn::ConvertTo(df, ci), hn::ConvertTo(df, cj), r, ta, tb);
+        // The roots (in double: four divisions) only where a lane may meet S; a lane that
+        // certainly misses would get t = ∞ from them.
+        const MI mayMeet =
+            hn::AndNot(hn::RebindMask(di, cell_test::SegmentMisses(df, segment)), leaf);
+        MI hits = hn::AndNot(leaf, leaf);
+        if (!hn::AllFalse(di, mayMeet)) {
+            const VF th = cell_test::FirstHitOnSegment(df, segment, r, ta, tb);
+            hits = hn::And(mayMeet, hn::RebindMask(di, hn::And(hn::Le(th, tb), hn::Lt(th, inf))));
+            hn::Store(th, df, p.leafT);
+        }
+        hn::Store(hn::VecFromMask(di, hits), di, p.leafHit);
     }
 
     // Where node (nx, ny) of `level` lies in `values` (TiledIndex<2>: 4×4 nodes per 64-byte
@@ -527,8 +554,7 @@ struct Walk {
     }
 
     // sideExitT across lanes.
-    static VF sideExit(VI p, VI level, VI cells, VI base, VI step, VI exitMask, VF edge, VF origin,
-                       VF inverse) {
+    static VF sideExit(VI p, VI level, VI cells, VI base, VI step, VF edge, VF origin, VF inverse) {
         const DF df;
         const DI di;
         // Lanes whose result is discarded (not advancing) may carry any level; a shift by it is
@@ -537,6 +563,8 @@ struct Walk {
         const VI shift = hn::Min(hn::Max(level, hn::Zero(di)), hn::Set(di, 30));
         const VI lo = ((p >> shift) << shift);
         const VI hi = hn::Min(hn::Add(lo, (hn::Set(di, 1) << shift)), cells);
+        // The exit side: high (WalkRay::exitMask -1) where the ray moves up, else low.
+        const VI exitMask = hn::VecFromMask(di, hn::Gt(step, hn::Zero(di)));
         const VI edgeCell = hn::Add(hn::Add(base, lo), hn::And(hn::Sub(hi, lo), exitMask));
         const VF tEdge = boundaryT(edgeCell, edge, origin, inverse);
         return hn::IfThenElse(hn::RebindMask(df, hn::Eq(step, hn::Zero(di))),
