@@ -73,6 +73,12 @@ HWY_INLINE void PrefetchLanes(const T* base, VI index) {
     const DI di;
     alignas(64) int32_t ahead[kLanes];
     hn::Store(index, di, ahead);
+    // The lanes' indices are read back from memory: left to itself the compiler takes them out
+    // of the register one by one (two micro-ops each on the family-23 EPYC), and a prefetch is
+    // on no critical path, so the store's latency costs nothing (2–8 % on the pyramid walk and
+    // the cone march there, docs/benchmarks-packets.md). The empty asm only says "ahead may have
+    // changed" (GCC and Clang).
+    asm("" : "+m"(ahead));
     for (size_t k = 0; k < hn::Lanes(di); ++k) hwy::Prefetch(base + ahead[k]);
 }
 
