@@ -31,7 +31,9 @@ using namespace packet_lanes;  // DF, DI, VF, VI, MF, MI, kLanes
 struct Packet {
     alignas(64) float t[kLanes], tExit[kLanes], horizontal[kLanes];
     alignas(64) float ox[kLanes], oy[kLanes], oz[kLanes], dx[kLanes], dy[kLanes], dz[kLanes];
-    alignas(64) int32_t steps[kLanes], fetches[kLanes], active[kLanes];
+    // cellFetches: the cell tests' corners (a step's cone fetch comes first in every step),
+    // counted in memory: a ray's fetches are its steps plus these.
+    alignas(64) int32_t steps[kLanes], cellFetches[kLanes], active[kLanes];
     // Written for the scalar part: the lanes that may end, the cell tested and its span.
     alignas(64) int32_t leaves[kLanes], candidate[kLanes], cellExit[kLanes], ci[kLanes], cj[kLanes];
     alignas(64) float to[kLanes], tStart[kLanes];  // the cell test's span [tStart, to]
@@ -62,7 +64,7 @@ struct March {
         p.tExit[lane] = span.tExit;
         p.horizontal[lane] = std::sqrt(d.x * d.x + d.y * d.y);
         setLaneRay(p, lane, ray);
-        p.steps[lane] = p.fetches[lane] = 0;
+        p.steps[lane] = p.cellFetches[lane] = 0;
         p.active[lane] = -1;
         p.index[lane] = i;
     }
@@ -72,7 +74,7 @@ struct March {
         p.t[lane] = p.tExit[lane] = p.horizontal[lane] = 0.0f;
         p.ox[lane] = p.oy[lane] = 0.5f;
         p.oz[lane] = p.dx[lane] = p.dy[lane] = p.dz[lane] = 0.0f;
-        p.steps[lane] = p.fetches[lane] = 0;
+        p.steps[lane] = p.cellFetches[lane] = 0;
     }
 
     // The exit of cell `cell` along one axis (cellAt's exitAlong).
@@ -116,7 +118,7 @@ struct March {
     Hit laneHit(const Packet& p, size_t k) const {
         Hit hit;
         hit.steps = p.steps[k];
-        hit.fetches = p.fetches[k];
+        hit.fetches = p.steps[k] + p.cellFetches[k];
         return hit;
     }
 
@@ -124,7 +126,7 @@ struct March {
     struct Lanes {
         MI act;
         VF t, tExit, horizontal, ox, oy, oz, dx, dy, dz;
-        VI steps, fetches;
+        VI steps;
     };
 
     static void load(const Packet& p, Lanes& r) {
@@ -141,19 +143,56 @@ struct March {
         r.dy = hn::Load(df, p.dy);
         r.dz = hn::Load(df, p.dz);
         r.steps = hn::Load(di, p.steps);
-        r.fetches = hn::Load(di, p.fetches);
+    }
+
+    // The exact test of the cell the ray is in, from p.tStart to where it leaves it (cellAt), in
+    // the lanes p.candidate: p.ci, p.cj, p.to the cell and the test's end, p.candidate the lanes
+    // whose segment may meet S there, p.cellExit those at the box's exit. Out of line: its
+    // vectors would otherwise crowd the registers of the march's loop, which takes it in a
+    // fraction of its steps.
+    HWY_NOINLINE void cellTests(Packet& p) const {
+        const DF df;
+        const DI di;
+        const VI oneI = hn::Set(di, 1), minusOne = hn::Set(di, -1);
+        const VF inf = hn::Set(df, kInfinity);
+        const VI stride = hn::Set(di, s.width() + 2);
+        const MI tests = hn::MaskFromVec(hn::Load(di, p.candidate));
+        const VF t = hn::Load(df, p.tStart), tExit = hn::Load(df, p.tExit);
+        const VF ox = hn::Load(df, p.ox), oy = hn::Load(df, p.oy), oz = hn::Load(df, p.oz);
+        const VF dx = hn::Load(df, p.dx), dy = hn::Load(df, p.dy), dz = hn::Load(df, p.dz);
+        const VF px = hn::Add(ox, hn::Mul(t, dx)), py = hn::Add(oy, hn::Mul(t, dy));
+        VI ci, cj;
+        VF to;
+        cellAt(t, px, py, ox, oy, dx, dy, tExit, ci, cj, to);
+        ci = hn::IfThenElse(tests, ci, minusOne);  // others: a cell in the array
+        cj = hn::IfThenElse(tests, cj, minusOne);
+        hn::Store(hn::Add(hn::Load(di, p.cellFetches), hn::IfThenElseZero(tests, hn::Set(di, 4))),
+                  di, p.cellFetches);
+        const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
+        const MF misses = cell_test::SegmentMissesCell(df, heights, offset, stride,
+                                                       hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
+                                                       {ox, oy, oz, dx, dy, dz}, t, to);
+        // A miss gives th = ∞, still a hit when to = ∞: the scalar test decides there.
+        const MI candidate =
+            hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(to, inf))), tests);
+        hn::Store(ci, di, p.ci);
+        hn::Store(cj, di, p.cj);
+        hn::Store(to, df, p.to);
+        hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
+        hn::Store(hn::VecFromMask(di, hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)))), di,
+                  p.cellExit);
     }
 
     // One turn of safeStepMarch's loop in every active lane of p; false once no lane is active.
     HWY_INLINE bool step(Packet& p, Lanes& r) {
         const DF df;
         const DI di;
-        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1), fourI = hn::Set(di, 4);
+        const VI zeroI = hn::Zero(di), oneI = hn::Set(di, 1);
         const VF zero = hn::Zero(df), inf = hn::Set(df, kInfinity);
         const VF stall = hn::Set(df, limits.stall);
         const VI maxSteps = hn::Set(di, limits.maxSteps);
         const VI lastX = hn::Set(di, s.width() - 1), lastY = hn::Set(di, s.height() - 1);
-        const VI width = hn::Set(di, s.width()), stride = hn::Set(di, s.width() + 2);
+        const VI width = hn::Set(di, s.width());
         const MI act = r.act;
         const VF t = r.t, tExit = r.tExit, ox = r.ox, oy = r.oy, oz = r.oz, dx = r.dx,
                  dy = r.dy, dz = r.dz;
@@ -189,25 +228,20 @@ struct March {
         const MI tests = testNow ? stalls : hn::AndNot(act, act);
         const MI counted = testNow ? act : hn::AndNot(stalls, act);
         r.steps = hn::Add(r.steps, hn::IfThenElseZero(counted, oneI));
-        r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(counted, oneI));
 
         VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
         MI candidate = hn::AndNot(act, act), cellExit = candidate;
         VI ci = zeroI, cj = zeroI;
         VF to = t;
-        if (!hn::AllFalse(di, tests)) {
-            // The exact test of the cell the ray is in, from t to where it leaves it.
-            cellAt(t, px, py, ox, oy, dx, dy, tExit, ci, cj, to);
-            ci = hn::IfThenElse(tests, ci, hn::Set(di, -1));  // others: a cell in the array
-            cj = hn::IfThenElse(tests, cj, hn::Set(di, -1));
-            r.fetches = hn::Add(r.fetches, hn::IfThenElseZero(tests, fourI));
-            const VI offset = hn::Add(hn::Mul(hn::Add(cj, oneI), stride), hn::Add(ci, oneI));
-            const MF misses = cell_test::SegmentMissesCell(
-                df, heights, offset, stride, hn::ConvertTo(df, ci), hn::ConvertTo(df, cj),
-                {ox, oy, oz, dx, dy, dz}, t, to);
-            // A miss gives th = ∞, still a hit when to = ∞: the scalar test decides there.
-            candidate = hn::AndNot(hn::RebindMask(di, hn::And(misses, hn::Lt(to, inf))), tests);
-            cellExit = hn::And(tests, hn::RebindMask(di, hn::Ge(to, tExit)));
+        if (!hn::AllFalse(di, tests)) {  // out of line, through p
+            hn::Store(t, df, p.tStart);
+            hn::Store(hn::VecFromMask(di, tests), di, p.candidate);
+            cellTests(p);
+            ci = hn::Load(di, p.ci);
+            cj = hn::Load(di, p.cj);
+            to = hn::Load(df, p.to);
+            candidate = hn::MaskFromVec(hn::Load(di, p.candidate));
+            cellExit = hn::MaskFromVec(hn::Load(di, p.cellExit));
             tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
         }
         // The next step's texel, asked for now: its load then overlaps the rest of this step
@@ -228,7 +262,6 @@ struct March {
         // Lanes that may end here, one by one (safeStepMarch's order); p.t: where each goes on.
         hn::Store(tNext, df, p.t);
         hn::Store(r.steps, di, p.steps);
-        hn::Store(r.fetches, di, p.fetches);
         hn::Store(to, df, p.to);
         hn::Store(hn::VecFromMask(di, leaves), di, p.leaves);
         hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
