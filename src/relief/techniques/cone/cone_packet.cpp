@@ -306,19 +306,26 @@ struct March {
         return any;
     }
 
-    // safeStepMarch's loop until the batch is done, in two packets taking turns: each step's
-    // gathers wait on the previous step's, so a second packet keeps the memory busy meanwhile.
-    void run(Packet (&packets)[2]) {
+    // safeStepMarch's loop until the batch is done, in kPackets packets taking turns: each step's
+    // gathers wait on the previous step's, so the other packets keep the memory busy meanwhile.
+    template <size_t kPackets>
+    void run(Packet (&packets)[kPackets]) {
         const DI di;
-        Lanes lanes[2];
-        bool live[2];
-        for (int k = 0; k < 2; ++k) {
+        Lanes lanes[kPackets];
+        bool live[kPackets];
+        size_t alive = 0;
+        for (size_t k = 0; k < kPackets; ++k) {
             load(packets[k], lanes[k]);
             live[k] = !hn::AllFalse(di, lanes[k].act);
+            alive += live[k];
         }
-        while (live[0] || live[1]) {
-            if (live[0]) live[0] = step(packets[0], lanes[0]);
-            if (live[1]) live[1] = step(packets[1], lanes[1]);
+        while (alive > 0) {
+            for (size_t k = 0; k < kPackets; ++k) {
+                if (live[k] && !step(packets[k], lanes[k])) {
+                    live[k] = false;
+                    --alive;
+                }
+            }
         }
     }
 };
@@ -326,18 +333,33 @@ struct March {
 }  // namespace cone_march
 
 void ConeMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits limits,
-                      std::span<const Ray> rays, std::span<Hit> hits) {
+                      std::span<const Ray> rays, std::span<Hit> hits, int packets) {
     using namespace cone_march;
     March march{surface, &map.texels().data()->x, surface.paddedHeights().data(), limits, rays,
                 hits};
-    Packet packets[2]{};
-    for (Packet& p : packets) {
-        for (size_t k = 0; k < kLanes; ++k) {
-            March::park(p, k);
-            if (k < hn::Lanes(DF())) march.fill(p, k);
+    // Two packets in turn while the maps stay in the caches; three once the cone map is larger
+    // than kThreePacketBytes, where each step waits on memory (4096² on the family-23 EPYC:
+    // shadow rays +8–15 %; at 1024² a third packet's registers cost 3–10 %,
+    // docs/benchmarks-packets.md).
+    constexpr size_t kThreePacketBytes = size_t(32) << 20;
+    const auto start = [&](auto& packets) {
+        for (Packet& p : packets) {
+            for (size_t k = 0; k < kLanes; ++k) {
+                March::park(p, k);
+                if (k < hn::Lanes(DF())) march.fill(p, k);
+            }
         }
+        march.run(packets);
+    };
+    if (packets == 0)
+        packets = map.texels().size() * sizeof(map.texels()[0]) > kThreePacketBytes ? 3 : 2;
+    if (packets == 3) {
+        Packet packets[3]{};
+        start(packets);
+    } else {
+        Packet packets[2]{};
+        start(packets);
     }
-    march.run(packets);
 }
 
 }  // namespace HWY_NAMESPACE
@@ -357,8 +379,9 @@ bool packetConeMarchSupports(const Surface& surface, const ConeMap& map) {
 }
 
 void coneMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits limits,
-                      std::span<const Ray> rays, std::span<Hit> hits) {
-    HWY_DYNAMIC_DISPATCH(ConeMarchPackets)(surface, map, limits, rays, hits);
+                      std::span<const Ray> rays, std::span<Hit> hits, int packets) {
+    RELIEF_CHECK(packets == 0 || packets == 2 || packets == 3);
+    HWY_DYNAMIC_DISPATCH(ConeMarchPackets)(surface, map, limits, rays, hits, packets);
 }
 
 }  // namespace relief

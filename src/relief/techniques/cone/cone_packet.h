@@ -2,9 +2,9 @@
 // cone's march (ConeTracer::trace: safeStepMarch with cone steps and whole-cell tests) for
 // packets of rays: SIMD lanes (Google Highway; 16 / 8 / 4 floats), each lane marching its own ray
 // in lockstep with masks; a lane whose ray is done takes the batch's next ray. Two packets take
-// turns step by step, so one packet's gathers are in flight while the other computes (the march
-// is bound by the latency of its dependent fetches); each step also prefetches the texel its
-// next step reads, as soon as the position is known.
+// turns step by step (three once the map outgrows the caches), so one packet's gathers are in
+// flight while another computes (the march is bound by the latency of its dependent fetches);
+// each step also prefetches the texel its next step reads, as soon as the position is known.
 // Invariant: per lane the same float operations in the same order as the scalar march (compiled
 //   with -ffp-contract=off), so hit, t, position, steps and fetches are the scalar tracer's bit
 //   for bit; the iteration cap included.
@@ -24,8 +24,9 @@ namespace relief {
 // Whether coneMarchPackets can trace this surface and map (clamp mode, offsets in int32).
 bool packetConeMarchSupports(const Surface& surface, const ConeMap& map);
 
-// hits[k] = ConeTracer(surface, map, limits).trace(rays[k]), bit for bit.
+// hits[k] = ConeTracer(surface, map, limits).trace(rays[k]), bit for bit. packets: how many
+// packets take turns, 2 or 3 (0: by the cone map's size, three beyond 32 MiB).
 void coneMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits limits,
-                      std::span<const Ray> rays, std::span<Hit> hits);
+                      std::span<const Ray> rays, std::span<Hit> hits, int packets = 0);
 
 }  // namespace relief

@@ -64,6 +64,53 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
     });
 }
 
+// Three packets in turn (what maps beyond 32 MiB take) against the scalar march, on the
+// adversarial maps and rays and on camera and shadow rays.
+TEST(ConePackets, ThreePacketsIdenticalToScalar) {
+    if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
+    const auto compare = [](const std::shared_ptr<const Surface>& surface,
+                            const std::vector<Ray>& rays, const std::string& what,
+                            Counts& counts) {
+        const auto tracer = rowTracer("cone", surface, {});
+        const auto* packets = dynamic_cast<const PacketTracer*>(tracer.get());
+        ASSERT_NE(packets, nullptr);
+        const auto* scalar = dynamic_cast<const BatchTracer<ConeTracer>*>(&packets->scalarPath());
+        ASSERT_NE(scalar, nullptr);
+        const ConeTracer& cone = scalar->impl();
+        compareBatches(
+            [&](std::span<const Ray> span, std::span<Hit> hits) {
+                coneMarchPackets(cone.surface(), cone.map(), cone.limits(), span, hits, 3);
+            },
+            [&](const Ray& ray) { return cone.trace(ray); }, rays, what, counts);
+    };
+    forEachTarget([&] {
+        Counts counts;
+        uint32_t seed = 1;
+        for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
+            if (m.edge != EdgeMode::Clamp) continue;
+            const auto surface = walk_test::makeSurface(m, seed);
+            walk_test::RayMaker maker(*surface, seed++);
+            compare(surface, maker.all(100), walk_test::describe(m), counts);
+        }
+        for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
+            const auto exact = createTracer("exact", surface);
+            ASSERT_TRUE(exact.ok());
+            compare(surface,
+                    packet_test::viewAndRandomRays(*surface,
+                                                   [&](const Ray& ray) {
+                                                       Hit hit;
+                                                       (*exact)->traceBatch({&ray, 1}, {&hit, 1});
+                                                       return hit;
+                                                   }),
+                    name, counts);
+        }
+        std::printf("cone, three packets (%s): %zu rays, %zu hits, %zu differences\n",
+                    packetWalkTarget(), counts.rays, counts.hits, counts.differences);
+        EXPECT_GE(counts.rays, 100000u);
+        EXPECT_EQ(counts.differences, 0u);
+    });
+}
+
 // The row takes the packet path in clamp mode (any parameters), the scalar march in repeat mode.
 TEST(ConePackets, RegistryConeTracesPacketsInClampMode) {
     for (const EdgeMode edge : {EdgeMode::Clamp, EdgeMode::Repeat}) {
