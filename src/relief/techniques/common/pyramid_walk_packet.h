@@ -7,15 +7,15 @@
 //   walkPyramid<Ascent::Parent> (quadtree's default) and <Ascent::Ancestor> (maxmip's).
 //   min/max/clamp are written as the selects std::min/max/clamp are (NaN and ±0 alike).
 // Vectorized: node max gathers, the bound (enterBelow), descent, exits, index steps, ascent;
-//   each step prefetches its node's children's line (no value changes); in clamp mode the rays'
-//   setup (makeWalkRay, startCursor) across lanes a chunk of the feed at a time (the clip is
-//   SIMD too, surface/ray_feed-inl.h).
-// Per lane, scalar: the setup in repeat mode, the level-0 two-triangle cell test (leafHit) and
-//   the end of a ray (makeHit, the floor exit rule).
+//   each step prefetches its node's children's line (no value changes); the level-0 cell tests
+//   (leafHit: corners, planes, signs, roots in double) in batches of waiting lanes, out of line;
+//   in clamp mode the rays' setup (makeWalkRay, startCursor) across lanes a chunk of the feed at
+//   a time (the clip is SIMD too, surface/ray_feed-inl.h).
+// Per lane, scalar: the setup in repeat mode and the end of a ray (makeHit, the floor exit rule).
 // Scope: no iteration cap, S (not boxes), a pyramid over cells; the rows' other parameters keep
 //   the scalar walk. Targets: AVX-512, AVX2, SSE4, a portable fallback, picked at run time.
-// Cost: per ray the cell tests and end stay scalar; the node steps cost one vector
-//   iteration per packet (docs/benchmarks-packets.md: about 1.1–1.5× over the scalar walk).
+// Cost: one vector iteration per packet step; on AVX2 bound by micro-operations, not memory, at
+//   1.4–1.7× the scalar walk (docs/benchmarks-packets.md, stop 45).
 #include <relief/core/isa.h>
 #include <relief/core/math.h>
 #include <relief/techniques/common/max_pyramid.h>
