@@ -19,24 +19,51 @@ using namespace packet_test;  // rowTracer, compareRowPaths, forEachTarget, Coun
 
 const Overrides kCases[] = {{}, {{"variant", 1}}, {{"max-steps", 6}}, {{"bits", 8}}};
 
+// f(surface, rays, what) on each adversarial contract map in clamp mode, 100 rays of each family.
+template <class F>
+void forEachContractMap(F f) {
+    uint32_t seed = 1;
+    for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
+        if (m.edge != EdgeMode::Clamp) continue;
+        const auto surface = walk_test::makeSurface(m, seed);
+        walk_test::RayMaker maker(*surface, seed++);
+        f(surface, maker.all(100), walk_test::describe(m));
+    }
+}
+
+// f(surface, rays, what) on each map of coherent rays: camera, shadow and random rays.
+template <class F>
+void forEachCoherentMap(F f) {
+    for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
+        const auto exact = createTracer("exact", surface);
+        ASSERT_TRUE(exact.ok());
+        f(surface, packet_test::viewAndRandomRays(*surface, [&](const Ray& ray) {
+              Hit hit;
+              (*exact)->traceBatch({&ray, 1}, {&hit, 1});
+              return hit;
+          }),
+          name);
+    }
+}
+
+void report(const char* what, const Counts& counts) {
+    std::printf("%s (%s): %zu rays, %zu hits, %zu differences\n", what, packetWalkTarget(),
+                counts.rays, counts.hits, counts.differences);
+    EXPECT_GE(counts.rays, 100000u);
+    EXPECT_EQ(counts.differences, 0u);
+}
+
 TEST(ConePackets, IdenticalToScalarOnAdversarialMapsAndRays) {
     if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
     forEachTarget([] {
         Counts counts;
-        uint32_t seed = 1;
-        for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
-            if (m.edge != EdgeMode::Clamp) continue;
-            const auto surface = walk_test::makeSurface(m, seed);
-            walk_test::RayMaker maker(*surface, seed++);
-            const std::vector<Ray> rays = maker.all(100);
+        forEachContractMap([&](const auto& surface, const std::vector<Ray>& rays,
+                               const std::string& what) {
             for (const Overrides& overrides : kCases)
                 compareRowPaths(*rowTracer("cone", surface, overrides), rays,
-                                walk_test::describe(m) + " " + describe(overrides), counts);
-        }
-        std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
-                    counts.rays, counts.hits, counts.differences);
-        EXPECT_GE(counts.rays, 100000u);
-        EXPECT_EQ(counts.differences, 0u);
+                                what + " " + describe(overrides), counts);
+        });
+        report("cone packets", counts);
     });
 }
 
@@ -44,23 +71,13 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
     if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
     forEachTarget([] {
         Counts counts;
-        for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
-            const auto exact = createTracer("exact", surface);
-            ASSERT_TRUE(exact.ok());
-            const std::vector<Ray> rays =
-                packet_test::viewAndRandomRays(*surface, [&](const Ray& ray) {
-                    Hit hit;
-                    (*exact)->traceBatch({&ray, 1}, {&hit, 1});
-                    return hit;
-                });
+        forEachCoherentMap([&](const auto& surface, const std::vector<Ray>& rays,
+                               const std::string& what) {
             for (const Overrides& overrides : {Overrides{}, Overrides{{"variant", 1}}})
                 compareRowPaths(*rowTracer("cone", surface, overrides), rays,
-                                name + " " + describe(overrides), counts);
-        }
-        std::printf("cone packets (%s): %zu rays, %zu hits, %zu differences\n", packetWalkTarget(),
-                    counts.rays, counts.hits, counts.differences);
-        EXPECT_GE(counts.rays, 100000u);
-        EXPECT_EQ(counts.differences, 0u);
+                                what + " " + describe(overrides), counts);
+        });
+        report("cone packets", counts);
     });
 }
 
@@ -68,46 +85,26 @@ TEST(ConePackets, IdenticalToScalarOnCameraAndShadowRays) {
 // adversarial maps and rays and on camera and shadow rays.
 TEST(ConePackets, ThreePacketsIdenticalToScalar) {
     if (!packetsEnabled()) GTEST_SKIP() << "RELIEF_PACKETS=0";
-    const auto compare = [](const std::shared_ptr<const Surface>& surface,
-                            const std::vector<Ray>& rays, const std::string& what,
-                            Counts& counts) {
-        const auto tracer = rowTracer("cone", surface, {});
-        const auto* packets = dynamic_cast<const PacketTracer*>(tracer.get());
-        ASSERT_NE(packets, nullptr);
-        const auto* scalar = dynamic_cast<const BatchTracer<ConeTracer>*>(&packets->scalarPath());
-        ASSERT_NE(scalar, nullptr);
-        const ConeTracer& cone = scalar->impl();
-        compareBatches(
-            [&](std::span<const Ray> span, std::span<Hit> hits) {
-                coneMarchPackets(cone.surface(), cone.map(), cone.limits(), span, hits, 3);
-            },
-            [&](const Ray& ray) { return cone.trace(ray); }, rays, what, counts);
-    };
-    forEachTarget([&] {
+    forEachTarget([] {
         Counts counts;
-        uint32_t seed = 1;
-        for (const walk_test::MapSpec& m : walk_test::contractMaps()) {
-            if (m.edge != EdgeMode::Clamp) continue;
-            const auto surface = walk_test::makeSurface(m, seed);
-            walk_test::RayMaker maker(*surface, seed++);
-            compare(surface, maker.all(100), walk_test::describe(m), counts);
-        }
-        for (const auto& [name, surface] : packet_test::coherentRayMaps(EdgeMode::Clamp)) {
-            const auto exact = createTracer("exact", surface);
-            ASSERT_TRUE(exact.ok());
-            compare(surface,
-                    packet_test::viewAndRandomRays(*surface,
-                                                   [&](const Ray& ray) {
-                                                       Hit hit;
-                                                       (*exact)->traceBatch({&ray, 1}, {&hit, 1});
-                                                       return hit;
-                                                   }),
-                    name, counts);
-        }
-        std::printf("cone, three packets (%s): %zu rays, %zu hits, %zu differences\n",
-                    packetWalkTarget(), counts.rays, counts.hits, counts.differences);
-        EXPECT_GE(counts.rays, 100000u);
-        EXPECT_EQ(counts.differences, 0u);
+        const auto compare = [&](const std::shared_ptr<const Surface>& surface,
+                                 const std::vector<Ray>& rays, const std::string& what) {
+            const auto tracer = rowTracer("cone", surface, {});
+            const auto* packets = dynamic_cast<const PacketTracer*>(tracer.get());
+            ASSERT_NE(packets, nullptr);
+            const auto* scalar =
+                dynamic_cast<const BatchTracer<ConeTracer>*>(&packets->scalarPath());
+            ASSERT_NE(scalar, nullptr);
+            const ConeTracer& cone = scalar->impl();
+            compareBatches(
+                [&](std::span<const Ray> span, std::span<Hit> hits) {
+                    coneMarchPackets(cone.surface(), cone.map(), cone.limits(), span, hits, 3);
+                },
+                [&](const Ray& ray) { return cone.trace(ray); }, rays, what, counts);
+        };
+        forEachContractMap(compare);
+        forEachCoherentMap(compare);
+        report("cone, three packets", counts);
     });
 }
 
