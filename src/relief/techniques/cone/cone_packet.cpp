@@ -339,8 +339,8 @@ void ConeMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits lim
                 hits};
     // Two packets in turn while the maps stay in the caches; three once the cone map is larger
     // than kThreePacketBytes, where each step waits on memory (4096² on the family-23 EPYC:
-    // shadow rays +8–15 %; at 1024² a third packet's registers cost 3–10 %,
-    // docs/benchmarks-packets.md).
+    // primary rays +7–12 %, shadow rays +4–22 %; at 1024² a third packet gained nothing, −15 to
+    // +13 % over two rounds and mostly slower, docs/benchmarks-packets.md).
     constexpr size_t kThreePacketBytes = size_t(32) << 20;
     const auto start = [&](auto& packets) {
         for (Packet& p : packets) {
@@ -354,11 +354,11 @@ void ConeMarchPackets(const Surface& surface, const ConeMap& map, ConeLimits lim
     if (packets == 0)
         packets = map.texels().size() * sizeof(map.texels()[0]) > kThreePacketBytes ? 3 : 2;
     if (packets == 3) {
-        Packet packets[3]{};
-        start(packets);
+        Packet three[3]{};
+        start(three);
     } else {
-        Packet packets[2]{};
-        start(packets);
+        Packet two[2]{};
+        start(two);
     }
 }
 
