@@ -230,19 +230,18 @@ struct March {
         r.steps = hn::Add(r.steps, hn::IfThenElseZero(counted, oneI));
 
         VF tNext = hn::IfThenElse(hn::RebindMask(df, stepping), stepped, t);
-        MI candidate = hn::AndNot(act, act), cellExit = candidate;
-        VI ci = zeroI, cj = zeroI;
-        VF to = t;
-        if (!hn::AllFalse(di, tests)) {  // out of line, through p
+        const MI none = hn::AndNot(act, act);
+        MI candidate = none, cellExit = none;
+        // Out of line, through p: the cell, the test's span and its verdicts stay there for the
+        // lanes that may end below.
+        const bool tested = !hn::AllFalse(di, tests);
+        if (tested) {
             hn::Store(t, df, p.tStart);
             hn::Store(hn::VecFromMask(di, tests), di, p.candidate);
             cellTests(p);
-            ci = hn::Load(di, p.ci);
-            cj = hn::Load(di, p.cj);
-            to = hn::Load(df, p.to);
             candidate = hn::MaskFromVec(hn::Load(di, p.candidate));
             cellExit = hn::MaskFromVec(hn::Load(di, p.cellExit));
-            tNext = hn::IfThenElse(hn::RebindMask(df, tests), to, tNext);
+            tNext = hn::IfThenElse(hn::RebindMask(df, tests), hn::Load(df, p.to), tNext);
         }
         // The next step's texel, asked for now: its load then overlaps the rest of this step
         // and the other packet's (the gather at the top of the next step would wait for it).
@@ -262,13 +261,11 @@ struct March {
         // Lanes that may end here, one by one (safeStepMarch's order); p.t: where each goes on.
         hn::Store(tNext, df, p.t);
         hn::Store(r.steps, di, p.steps);
-        hn::Store(to, df, p.to);
         hn::Store(hn::VecFromMask(di, leaves), di, p.leaves);
-        hn::Store(hn::VecFromMask(di, candidate), di, p.candidate);
-        hn::Store(hn::VecFromMask(di, cellExit), di, p.cellExit);
-        hn::Store(ci, di, p.ci);
-        hn::Store(cj, di, p.cj);
-        hn::Store(t, df, p.tStart);
+        if (!tested) {  // no lane tested a cell: none of the cell test's verdicts hold
+            hn::Store(hn::VecFromMask(di, none), di, p.candidate);
+            hn::Store(hn::VecFromMask(di, none), di, p.cellExit);
+        }
         ForEachLane(mayEnd, [&](size_t k) {
             const size_t i = p.index[k];
             const Ray& ray = rays[i];
