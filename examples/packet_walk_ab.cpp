@@ -81,11 +81,18 @@ int main(int argc, char** argv) {
         }
         else if (a == "--elevations" && k + 1 < argc) {
             elevations.clear();
-            for (const char* c = argv[++k]; *c != '\0';) {
+            const char* list = argv[++k];
+            for (const char* c = list;;) {
                 char* end = nullptr;
-                elevations.push_back(std::strtof(c, &end));
-                if (end == c) break;
-                c = *end == ',' ? end + 1 : end;
+                const float elevation = std::strtof(c, &end);
+                if (end == c || (*end != ',' && *end != '\0')) {
+                    std::fprintf(stderr, "--elevations: degrees, comma-separated (got \"%s\")\n",
+                                 list);
+                    return 2;
+                }
+                elevations.push_back(elevation);
+                if (*end == '\0') break;
+                c = end + 1;
             }
         }
         else if (a == "--isa" && k + 1 < argc) {
